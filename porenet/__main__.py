@@ -1,0 +1,3 @@
+from porenet.cli import main
+
+raise SystemExit(main())

@@ -1,0 +1,1 @@
+"""First-party kinds, registered through the same hooks as any plugin (DESIGN rule 1)."""

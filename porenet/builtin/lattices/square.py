@@ -1,0 +1,204 @@
+"""The paper's square lattice of dented blocks (MODEL.md section 1).
+
+Pores sit at cell centres of an ``n x n`` grid, pore ``(i, j)`` (row i, column j) has index
+``i*n + j`` and centre ``(x, y) = (2j + 1, 2i + 1)`` in units of ``a`` (the node spacing is 2a).
+Particles sit at the ``(n+1) x (n+1)`` nodes, particle ``(I, J)`` has index ``I*(n+1) + J`` and
+centre ``(2J, 2I)``.
+
+Canonical throat order: first the horizontal throats ``(i,j)-(i,j+1)``, row-major, index
+``i*(n-1) + j``; then the vertical throats ``(i,j)-(i+1,j)``, row-major, index
+``n*(n-1) + i*n + j``. The spring crossing a horizontal throat joins particles ``(i, j+1)`` and
+``(i+1, j+1)`` (a vertical spring); the spring crossing a vertical throat joins ``(i+1, j)`` and
+``(i+1, j+1)`` (a horizontal spring). Springs share the throat index.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import Field, ValidationInfo, field_validator, model_validator
+
+from porenet.config.base import ModelConfig
+from porenet.core.interfaces import Lattice
+
+MAX_N = 10_000
+
+
+def canonical_throats(n: int) -> np.ndarray:
+    """(2 n (n-1), 2) int64 pore pairs of an n x n square lattice, in canonical order."""
+    idx = np.arange(n * n, dtype=np.int64).reshape(n, n)
+    horizontal = np.stack([idx[:, :-1].ravel(), idx[:, 1:].ravel()], axis=1)
+    vertical = np.stack([idx[:-1, :].ravel(), idx[1:, :].ravel()], axis=1)
+    return np.concatenate([horizontal, vertical])
+
+
+def load_apertures_file(path: Path, n: int) -> np.ndarray:
+    """Read and check an ``apertures`` array (m) from an .npz file for an n x n lattice."""
+    expected = 2 * n * (n - 1)
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if "apertures" not in data.files:
+                raise ValueError(
+                    f"{path}: no array named 'apertures' (found: {', '.join(data.files) or 'none'})"
+                )
+            apertures = np.asarray(data["apertures"], dtype=np.float64)
+    except (OSError, ValueError, EOFError) as exc:
+        if isinstance(exc, ValueError) and str(exc).startswith(str(path)):
+            raise
+        raise ValueError(f"{path}: cannot read as .npz: {exc}") from None
+    if apertures.shape != (expected,):
+        raise ValueError(
+            f"{path}: 'apertures' has shape {apertures.shape}, expected ({expected},) = "
+            f"2 n (n-1) throats for n = {n} (canonical order: horizontal then vertical, row-major)"
+        )
+    bad = ~(np.isfinite(apertures) & (apertures > 0))
+    if bad.any():
+        first = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"{path}: {int(bad.sum())} aperture(s) are not positive and finite "
+            f"(first: throat {first} = {apertures[first]!r})"
+        )
+    return apertures
+
+
+class SquareLatticeConfig(ModelConfig):
+    """The paper's ``n x n`` square lattice with uncorrelated uniform apertures."""
+
+    kind: Literal["square"] = "square"
+    n: int = Field(..., ge=3, le=MAX_N, description="Pores per side; L = n a. Paper: 400.")
+    pore_size: float = Field(
+        1e-7, gt=0, description="Pore size a (m), half the node spacing. Paper: 1e-7 m."
+    )
+    disorder: float | None = Field(
+        None,
+        gt=0,
+        lt=1,
+        description="Disorder lambda: apertures uniform in [(1-lambda) r_mean, (1+lambda) r_mean]."
+        " Required unless apertures_file is given.",
+    )
+    mean_aperture: float | None = Field(
+        None, gt=0, description="Mean aperture r_mean (m). Default: the pore size a."
+    )
+    area_factor: float = Field(1.0, gt=0, description="c_A in throat area A = c_A r^2 (-).")
+    permeability_factor: float = Field(
+        1.0, gt=0, description="c_k in throat permeability k = c_k r^2 (-)."
+    )
+    volume_factor: float = Field(1.0, gt=0, description="c_V in pore volume V = c_V a^3 (-).")
+    apertures_file: Path | None = Field(
+        None,
+        description=".npz file with an 'apertures' array (m) in canonical throat order; a "
+        "relative path is read from the scene file's directory.",
+    )
+
+    @field_validator("apertures_file")
+    @classmethod
+    def _resolve(cls, value: Path | None, info: ValidationInfo) -> Path | None:
+        if value is None:
+            return None
+        base = (info.context or {}).get("base_dir")
+        path = Path(value).expanduser()
+        if not path.is_absolute() and base is not None:
+            path = Path(base) / path
+        if not path.is_file():
+            raise ValueError(f"file not found: {path}")
+        return path.resolve()
+
+    @model_validator(mode="after")
+    def _check(self) -> SquareLatticeConfig:
+        if self.apertures_file is None and self.disorder is None:
+            raise ValueError("'disorder' is required (or give 'apertures_file')")
+        if self.apertures_file is not None:
+            load_apertures_file(self.apertures_file, self.n)
+        return self
+
+
+class SquareLattice(Lattice):
+    """Square lattice of ``n x n`` pores and ``(n+1) x (n+1)`` particles.
+
+    Subclasses that only change how apertures are drawn override :meth:`draw_apertures`.
+    """
+
+    config: SquareLatticeConfig
+
+    def __init__(self, config: Any, rng: np.random.Generator) -> None:
+        super().__init__(config, rng)
+        self.n = int(config.n)
+        if config.apertures_file is not None:
+            r = load_apertures_file(config.apertures_file, self.n) / config.pore_size
+        else:
+            r = self.draw_apertures(rng)
+        if r.shape != (self.n_throats_expected,) or not np.all(np.isfinite(r) & (r > 0)):
+            raise ValueError(f"{type(self).__name__}: apertures must be positive, finite, (M,)")
+        self._apertures = r
+        self._apertures.setflags(write=False)
+
+    @property
+    def n_throats_expected(self) -> int:
+        return 2 * self.n * (self.n - 1)
+
+    @property
+    def mean_aperture_scaled(self) -> float:
+        """r_mean / a."""
+        c = self.config
+        return 1.0 if c.mean_aperture is None else c.mean_aperture / c.pore_size
+
+    def draw_apertures(self, rng: np.random.Generator) -> np.ndarray:
+        """Uncorrelated apertures ``r / a`` uniform in [(1-lambda), (1+lambda)] r_mean / a."""
+        lam = float(self.config.disorder)
+        r0 = self.mean_aperture_scaled
+        return rng.uniform((1.0 - lam) * r0, (1.0 + lam) * r0, size=self.n_throats_expected)
+
+    # -- Lattice interface ----------------------------------------------------------------
+    @property
+    def n_pores(self) -> int:
+        return self.n * self.n
+
+    @cached_property
+    def throat_pores(self) -> np.ndarray:
+        return canonical_throats(self.n)
+
+    @cached_property
+    def pore_coords(self) -> np.ndarray:
+        i, j = np.divmod(np.arange(self.n_pores), self.n)
+        return np.stack([2.0 * j + 1.0, 2.0 * i + 1.0], axis=1)
+
+    @cached_property
+    def boundary_pores(self) -> np.ndarray:
+        mask = np.zeros((self.n, self.n), dtype=bool)
+        mask[0, :] = mask[-1, :] = mask[:, 0] = mask[:, -1] = True
+        return mask.ravel()
+
+    @property
+    def initial_apertures(self) -> np.ndarray:
+        return self._apertures
+
+    @property
+    def grid_shape(self) -> tuple[int, int]:
+        return (self.n, self.n)
+
+    @cached_property
+    def pore_volumes(self) -> np.ndarray:
+        return np.full(self.n_pores, float(self.config.volume_factor))
+
+    def inlet_pores(self, at: str) -> np.ndarray:
+        if at == "centre":
+            return np.array([(self.n // 2) * self.n + self.n // 2], dtype=np.int64)
+        return super().inlet_pores(at)
+
+    # -- solid network ----------------------------------------------------------------------
+    @cached_property
+    def particle_coords(self) -> np.ndarray:
+        big_i, big_j = np.divmod(np.arange((self.n + 1) ** 2), self.n + 1)
+        return np.stack([2.0 * big_j, 2.0 * big_i], axis=1)
+
+    @cached_property
+    def spring_particles(self) -> np.ndarray:
+        n, n1 = self.n, self.n + 1
+        i, j = np.divmod(np.arange(n * (n - 1)), n - 1)
+        vertical_springs = np.stack([i * n1 + j + 1, (i + 1) * n1 + j + 1], axis=1)
+        i, j = np.divmod(np.arange((n - 1) * n), n)
+        horizontal_springs = np.stack([(i + 1) * n1 + j, (i + 1) * n1 + j + 1], axis=1)
+        return np.concatenate([vertical_springs, horizontal_springs]).astype(np.int64)

@@ -1,0 +1,32 @@
+"""Registers porenet's built-in kinds through the public hooks, like any third-party plugin."""
+
+from __future__ import annotations
+
+from porenet.builtin.fluids.invasion_percolation import (
+    InvasionPercolation,
+    InvasionPercolationConfig,
+)
+from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
+from porenet.builtin.observers.progress import Progress, ProgressConfig
+from porenet.builtin.solids.rigid import RigidConfig
+from porenet.hooks import Register, hookimpl
+
+
+@hookimpl
+def porenet_register_lattices(register: Register) -> None:
+    register(SquareLatticeConfig, SquareLattice)
+
+
+@hookimpl
+def porenet_register_fluid_models(register: Register) -> None:
+    register(InvasionPercolationConfig, InvasionPercolation)
+
+
+@hookimpl
+def porenet_register_solid_models(register: Register) -> None:
+    register(RigidConfig, None)
+
+
+@hookimpl
+def porenet_register_observers(register: Register) -> None:
+    register(ProgressConfig, Progress)

@@ -1,0 +1,17 @@
+"""The rigid medium: apertures never change and no mechanics object is ever built."""
+
+from __future__ import annotations
+
+from typing import ClassVar, Literal
+
+from porenet.config.base import ModelConfig
+
+
+class RigidConfig(ModelConfig):
+    """Rigid solid skeleton (MODEL.md section 5, first bullet)."""
+
+    kind: Literal["rigid"] = "rigid"
+    builds_nothing: ClassVar[bool] = True
+
+    def effects(self) -> dict[str, bool]:
+        return {"deformation": False, "contact_loss": False}

@@ -1,0 +1,201 @@
+"""The ``porenet`` command.
+
+Exit status: 0 success, 1 run-time failure (numerical trouble, unreadable run file), 2 invalid
+input (scene, option or file). Errors are one readable paragraph, never a traceback; pass
+``--traceback`` to see one for a bug report.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+from pathlib import Path
+from typing import Any
+
+from porenet._version import __version__
+from porenet.core.errors import ConfigError, PorenetError
+
+log = logging.getLogger("porenet")
+
+
+def _scene_source(args: argparse.Namespace) -> Path:
+    from porenet.config.loading import example_path
+
+    if args.example:
+        if args.scene:
+            raise ConfigError("give either a SCENE file or --example NAME, not both")
+        return example_path(args.example)
+    if not args.scene:
+        raise ConfigError("no scene given: pass a SCENE.toml or --example quickstart")
+    return Path(args.scene)
+
+
+def _add_scene_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("scene", nargs="?", help="scene file (TOML)")
+    p.add_argument("--example", metavar="NAME", help="use a scene shipped with porenet")
+    p.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="override a dotted key of the scene, e.g. --set lattice.n=64 (repeatable)",
+    )
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from porenet.simulation import Simulation
+
+    source = _scene_source(args)
+    output = Path(args.output) if args.output else Path(f"{source.stem}.h5")
+    if args.plot and not Path(args.plot).resolve().parent.is_dir():
+        raise ConfigError(f"--plot {args.plot}: directory does not exist")
+    progress = not args.quiet and sys.stderr.isatty()
+    sim = Simulation.from_scene(source, args.overrides, output=output, progress=progress)
+    result = sim.run()
+    s = result.summary
+    if not args.quiet:
+        print(
+            f"{source.name}: {s['stop_reason']} after {s['n_drained']} drained pores "
+            f"({100 * s['drained_fraction']:.2f} %), trapped {100 * s['trapped_fraction']:.2f} %, "
+            f"{s['wall_time_s']:.3f} s"
+        )
+        print(f"run file: {result.path}")
+    if args.plot:
+        from porenet.viz.pattern import save_figure
+
+        save_figure(result.plot(), args.plot)
+        if not args.quiet:
+            print(f"figure: {args.plot}")
+    return 0
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    from porenet.config.loading import load_scene
+
+    source = _scene_source(args)
+    scene = load_scene(source, args.overrides)
+    if args.show:
+        print(json.dumps(scene.model_dump(mode="json"), indent=2))
+    else:
+        print(f"{source}: valid")
+    return 0
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    from porenet.config.loading import load_scene
+    from porenet.core.plan import make_plan
+    from porenet.hooks import get_registry
+
+    source = _scene_source(args)
+    registry = get_registry()
+    scene = load_scene(source, args.overrides, registry=registry)
+    print(make_plan(scene, registry).describe())
+    return 0
+
+
+def cmd_plugins(args: argparse.Namespace) -> int:
+    from porenet.hooks import get_registry
+
+    registry = get_registry()
+    rows = [(e.family, e.kind, e.package, e.plugin) for e in registry]
+    if args.json:
+        print(json.dumps([dict(zip(("family", "kind", "package", "plugin"), r)) for r in rows]))
+        return 0
+    widths = [max(len(r[i]) for r in [*rows, ("family", "kind", "package", "plugin")]) for i in range(4)]
+    header = ("family", "kind", "package", "plugin")
+    for r in [header, *rows]:
+        print("  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip())
+    for name, message in registry.failures:
+        print(f"failed: {name}: {message}", file=sys.stderr)
+    return 0
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    from porenet.io.runfile import read_run
+    from porenet.viz.pattern import plot_pattern, save_figure
+
+    data = read_run(args.runfile)
+    out = Path(args.output) if args.output else Path(args.runfile).with_suffix(".png")
+    if not out.resolve().parent.is_dir():
+        raise ConfigError(f"-o {out}: directory does not exist")
+    save_figure(plot_pattern(data), out)
+    print(f"figure: {out}")
+    return 0
+
+
+def cmd_schema(args: argparse.Namespace) -> int:
+    from porenet.config.scene import scene_model
+    from porenet.hooks import get_registry
+
+    print(json.dumps(scene_model(get_registry()).model_json_schema(), indent=2))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="porenet", description="Pore-scale drainage in deformable disordered media."
+    )
+    parser.add_argument("--version", action="version", version=f"porenet {__version__}")
+    parser.add_argument("-v", "--verbose", action="count", default=0, help="more logging")
+    parser.add_argument("--traceback", action="store_true", help="show tracebacks on errors")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("run", help="run a scene and write a run file")
+    _add_scene_args(p)
+    p.add_argument("-o", "--output", help="run file to write (default: SCENE_STEM.h5)")
+    p.add_argument("--plot", metavar="PNG", help="also save the pattern as a picture")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("validate", help="check a scene without running it")
+    _add_scene_args(p)
+    p.add_argument("--show", action="store_true", help="print the validated scene as JSON")
+    p.set_defaults(func=cmd_validate)
+
+    p = sub.add_parser("plan", help="show the effects and models a scene calls for")
+    _add_scene_args(p)
+    p.set_defaults(func=cmd_plan)
+
+    p = sub.add_parser("plugins", help="list every registered kind and its package")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=cmd_plugins)
+
+    p = sub.add_parser("plot", help="plot the pattern of a run file")
+    p.add_argument("runfile", help="run file (HDF5)")
+    p.add_argument("-o", "--output", help="picture to write (default: RUNFILE.png)")
+    p.set_defaults(func=cmd_plot)
+
+    p = sub.add_parser("schema", help="print the scene's JSON Schema (for editors)")
+    p.set_defaults(func=cmd_schema)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    level = logging.WARNING - 10 * min(args.verbose, 2)
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
+    try:
+        return int(args.func(args))
+    except PorenetError as exc:
+        if args.traceback:
+            raise
+        print(f"porenet {args.command}: error: {exc}", file=sys.stderr)
+        return exc.exit_status
+    except KeyboardInterrupt:
+        print("porenet: interrupted; no run file was written", file=sys.stderr)
+        return 130
+    except Exception as exc:  # a bug: say so briefly, show the traceback on request
+        if args.traceback:
+            raise
+        print(
+            f"porenet {args.command}: internal error: {type(exc).__name__}: {exc}\n"
+            "  (rerun with --traceback and report it)",
+            file=sys.stderr,
+        )
+        return 1
+
+

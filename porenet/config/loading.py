@@ -1,0 +1,179 @@
+"""Reading scenes from TOML, dicts or objects, with overrides and readable errors."""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from pydantic import BaseModel, ValidationError
+
+from porenet.config.scene import SceneBase, scene_model
+from porenet.core.errors import ConfigError
+from porenet.core.registry import Registry
+
+EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "examples"
+
+
+def example_path(name: str) -> Path:
+    """Path of a scene shipped inside the package (``porenet run --example NAME``)."""
+    path = EXAMPLES_DIR / f"{name}.toml"
+    if not path.is_file():
+        known = sorted(p.stem for p in EXAMPLES_DIR.glob("*.toml"))
+        raise ConfigError(f"unknown example {name!r}; available: {', '.join(known)}")
+    return path
+
+
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """Parse a TOML file; a missing or malformed file is a ConfigError naming it."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise ConfigError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise ConfigError(f"{path}: is a directory, not a scene file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{path}: not a text file: {exc}") from None
+
+
+def parse_override(item: str) -> tuple[list[str], Any]:
+    """Split ``"lattice.n=64"`` into ``(["lattice", "n"], 64)``; values are TOML literals.
+
+    A value that is not a TOML literal (``--set name=run1``) is taken as a string.
+    """
+    key, sep, raw = item.partition("=")
+    key = key.strip()
+    if not sep or not key or any(not part for part in key.split(".")):
+        raise ConfigError(f"--set {item!r}: expected KEY=VALUE with a dotted KEY, e.g. lattice.n=64")
+    try:
+        value = tomllib.loads(f"v = {raw.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw.strip()
+    return key.split("."), value
+
+
+def apply_overrides(data: dict[str, Any], overrides: list[str] | tuple[str, ...]) -> dict[str, Any]:
+    """Return a copy of ``data`` with dotted ``KEY=VALUE`` overrides applied."""
+    data = copy.deepcopy(data)
+    for item in overrides:
+        path, value = parse_override(item)
+        node = data
+        for part in path[:-1]:
+            child = node.setdefault(part, {})
+            if not isinstance(child, dict):
+                raise ConfigError(f"--set {item!r}: {part!r} is not a table")
+            node = child
+        node[path[-1]] = value
+    return data
+
+
+def _walk_loc(data: Any, loc: tuple[Any, ...]) -> tuple[list[str], Any]:
+    """Dotted path and offending value for a pydantic error location.
+
+    Discriminated unions insert the tag (the section's kind) into ``loc``; it is dropped here.
+    """
+    parts: list[str] = []
+    node = data
+    missing = object()
+    for item in loc:
+        if isinstance(node, dict) and item not in node and node.get("kind") == item:
+            continue  # the union tag
+        if isinstance(item, int):
+            parts[-1:] = [f"{parts[-1]}[{item}]"] if parts else [f"[{item}]"]
+        else:
+            parts.append(str(item))
+        if isinstance(node, dict):
+            node = node.get(item, missing)
+        elif isinstance(node, list) and isinstance(item, int) and item < len(node):
+            node = node[item]
+        else:
+            node = missing
+    return parts, (None if node is missing else node)
+
+
+def _allowed_fields(model: type[BaseModel], data: Any, parts: list[str], registry: Registry) -> list[str]:
+    """Field names allowed in the table that holds the unknown field ``parts[-1]``."""
+    if len(parts) == 1:
+        return list(model.model_fields)
+    section = parts[0].split("[")[0]
+    family = {"observers": "observer"}.get(section, section)
+    table = data.get(section) if isinstance(data, dict) else None
+    if isinstance(table, list):
+        index = int(parts[0].split("[")[1].rstrip("]")) if "[" in parts[0] else 0
+        table = table[index] if index < len(table) else None
+    if family in ("injection", "stop"):
+        return list(SceneBase.model_fields[family].annotation.model_fields)  # type: ignore[union-attr]
+    if isinstance(table, dict) and (family, table.get("kind")) in registry:
+        return list(registry.get(family, table["kind"]).config.model_fields)
+    return []
+
+
+def format_validation_error(
+    exc: ValidationError, source: str, data: Any, model: type[BaseModel], registry: Registry
+) -> ConfigError:
+    """One line per problem: ``source: field = value: what is wrong``."""
+    lines = []
+    for err in exc.errors(include_url=False):
+        parts, value = _walk_loc(data, tuple(err["loc"]))
+        dotted = ".".join(parts) or "(scene)"
+        msg = err["msg"]
+        if err["type"] == "extra_forbidden":
+            allowed = _allowed_fields(model, data, parts, registry)
+            close = difflib.get_close_matches(parts[-1], allowed, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            listed = f" (allowed: {', '.join(sorted(allowed))})" if allowed else ""
+            lines.append(f"{source}: {dotted}: unknown field{hint}{listed}")
+            continue
+        if err["type"] == "missing":
+            lines.append(f"{source}: {dotted}: required field is missing")
+            continue
+        if msg.startswith("Value error, "):
+            msg = msg[len("Value error, ") :]
+        shown = f" = {value!r}" if value is not None and not isinstance(value, dict) else ""
+        lines.append(f"{source}: {dotted}{shown}: {msg}")
+    return ConfigError("invalid scene\n  " + "\n  ".join(lines))
+
+
+def load_scene(
+    scene: Any,
+    overrides: list[str] | tuple[str, ...] = (),
+    *,
+    registry: Registry | None = None,
+) -> SceneBase:
+    """Validate a scene given as a TOML path, a dict, or an existing ``SceneConfig``.
+
+    Relative paths inside a scene file (``apertures_file``) are resolved against the file's
+    directory; inside a dict, against the current directory.
+
+    Raises
+    ------
+    ConfigError
+        Naming the file, the dotted field and the bad value.
+    """
+    from porenet.hooks import get_registry
+
+    registry = registry or get_registry()
+    model = scene_model(registry)
+    base_dir = Path.cwd()
+    if isinstance(scene, SceneBase):
+        if not overrides:
+            return scene
+        data, source = scene.model_dump(mode="json"), "<scene>"
+    elif isinstance(scene, dict):
+        data, source = scene, "<scene>"
+    elif isinstance(scene, str | Path):
+        data, source = read_toml(scene), str(scene)
+        base_dir = Path(scene).resolve().parent
+    else:
+        raise ConfigError(f"a scene is a TOML path, a dict or a SceneConfig, not {type(scene)!r}")
+    data = apply_overrides(data, overrides)
+    try:
+        return model.model_validate(data, context={"base_dir": base_dir})
+    except ValidationError as exc:
+        raise format_validation_error(exc, source, data, model, registry) from None

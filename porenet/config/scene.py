@@ -1,0 +1,95 @@
+"""The scene schema: top-level fields plus one section per model family.
+
+The model sections are discriminated unions over the registered config classes, so the schema
+can only be built after plugins have loaded: :func:`scene_model` builds (and caches) it for a
+registry.
+"""
+
+from __future__ import annotations
+
+import functools
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
+
+from porenet.core.registry import Registry
+
+#: Kind used when a section omits ``kind``.
+DEFAULT_KINDS: dict[str, str] = {
+    "lattice": "square",
+    "fluid": "invasion-percolation",
+    "solid": "rigid",
+}
+
+
+class InjectionConfig(BaseModel):
+    """Where the invading fluid enters.
+
+    ``centre``: the single centre pore (i, j) = (n//2, n//2), with the outlet along the whole
+    outer edge (the paper's geometry). ``left-edge``: every pore of the left column, with the
+    outlet along the right column and closed top and bottom (linear geometry).
+    """
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    at: Literal["centre", "left-edge"] = Field(
+        "centre", description="Injection site: 'centre' (paper) or 'left-edge' (linear)."
+    )
+
+
+class StopConfig(BaseModel):
+    """When a run ends (whichever comes first)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+    at: Literal["breakthrough", "complete"] = Field(
+        "breakthrough",
+        description="'breakthrough': when the first pore connected to the outlet drains; "
+        "'complete': when nothing more can be invaded.",
+    )
+    max_drained: int | None = Field(
+        None, gt=0, description="Stop after this many drained pores (inlets included)."
+    )
+
+
+class SceneBase(BaseModel):
+    """Top-level fields of a scene. All physical inputs are SI."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    seed: int = Field(0, ge=0, description="Seed of the run's numpy Generator (the only RNG).")
+    name: str = Field("", description="Free-text label copied into outputs.")
+    injection: InjectionConfig = Field(default_factory=InjectionConfig)
+    stop: StopConfig = Field(default_factory=StopConfig)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _default_kinds(cls, data: Any) -> Any:
+        if isinstance(data, dict):
+            data = dict(data)
+            for section, kind in DEFAULT_KINDS.items():
+                value = data.get(section)
+                if value is None and section == "solid":
+                    data[section] = {"kind": kind}
+                elif isinstance(value, dict) and "kind" not in value:
+                    data[section] = {"kind": kind, **value}
+        return data
+
+
+def _union(configs: list[type]) -> Any:
+    if len(configs) == 1:
+        return configs[0]
+    return Annotated[Union[tuple(configs)], Field(discriminator="kind")]  # noqa: UP007
+
+
+@functools.cache
+def scene_model(registry: Registry) -> type[SceneBase]:
+    """Build the ``SceneConfig`` pydantic model for the kinds in ``registry``."""
+    fields: dict[str, Any] = {
+        "lattice": (_union(registry.configs("lattice")), Field(description="[lattice] section")),
+        "fluid": (_union(registry.configs("fluid")), Field(description="[fluid] section")),
+        "solid": (_union(registry.configs("solid")), Field(description="[solid] section")),
+        "observers": (
+            list[_union(registry.configs("observer"))],  # type: ignore[misc]
+            Field(default_factory=list, description="[[observers]] tables"),
+        ),
+    }
+    return create_model("SceneConfig", __base__=SceneBase, **fields)

@@ -1,0 +1,296 @@
+"""The abstract interfaces every model implements.
+
+A run is built from one :class:`Lattice`, one :class:`FluidModel`, an optional
+:class:`SolidModel` and :class:`Coupler` (absent for a rigid medium), and any number of
+:class:`Observer` objects. They share one :class:`~porenet.core.state.State` and never call each
+other directly: the :class:`~porenet.simulation.Simulation` calls them in this order::
+
+    fluid.setup(state); solid.setup(state); observer.attach(run)  for each observer
+    loop:
+        fluid.advance(state, max_events)        # drains pores, updates pressures and time
+        coupler.exchange(state, solid)          # only for a deformable solid
+        observer.observe(state)                 # only observers whose trigger fires
+    fluid.finalize(state)
+    observer.close(state, result)               # every observer, once
+
+Units: every array in the State is scaled (lengths by a, pressures by gamma/a, times by
+mu a/gamma, see :mod:`porenet.core.units`); configs are SI; conversions happen at the edges.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from porenet.core.state import State
+from porenet.core.triggers import Never, Trigger
+from porenet.core.units import Scales
+
+if TYPE_CHECKING:  # pragma: no cover
+    from porenet.config.base import ModelConfig
+
+
+@dataclass(frozen=True)
+class RunContext:
+    """What every model may know about the run besides its own config.
+
+    Attributes
+    ----------
+    scales : Scales
+        SI scales of the scene.
+    injection : Any
+        The validated ``[injection]`` section.
+    stop : Any
+        The validated ``[stop]`` section (a hint: models may stop computing early).
+    rng : numpy.random.Generator
+        The run's generator, seeded from the scene's seed (the only source of randomness).
+    """
+
+    scales: Scales
+    injection: Any
+    stop: Any
+    rng: np.random.Generator = field(repr=False)
+
+
+class Lattice(ABC):
+    """Geometry and topology of the pore network and, for mechanics, of the solid particles.
+
+    A lattice is built once from its config and the run's generator and is read-only afterwards.
+    Pores are numbered ``0 .. n_pores-1``, throats ``0 .. n_throats-1`` in the lattice's canonical
+    order; lengths are in units of the pore size ``a``.
+
+    Subclasses implement the abstract properties; the particle/spring description is needed only
+    by deformable solids and may raise :class:`NotImplementedError` otherwise.
+    """
+
+    def __init__(self, config: ModelConfig, rng: np.random.Generator) -> None:
+        self.config = config
+
+    # -- pore network ---------------------------------------------------------------------
+    @property
+    @abstractmethod
+    def n_pores(self) -> int:
+        """Number of pore bodies."""
+
+    @property
+    @abstractmethod
+    def throat_pores(self) -> np.ndarray:
+        """(n_throats, 2) int64: the two pores each throat joins."""
+
+    @property
+    @abstractmethod
+    def pore_coords(self) -> np.ndarray:
+        """(n_pores, 2) float: pore centre (x, y) in units of ``a``."""
+
+    @property
+    @abstractmethod
+    def boundary_pores(self) -> np.ndarray:
+        """(n_pores,) bool: pores on the outer edge, which drain to the outlet reservoir."""
+
+    @property
+    @abstractmethod
+    def initial_apertures(self) -> np.ndarray:
+        """(n_throats,) float: throat apertures ``r / a`` before any deformation."""
+
+    @property
+    def n_throats(self) -> int:
+        """Number of throats (equal to the number of springs)."""
+        return int(self.throat_pores.shape[0])
+
+    @property
+    def grid_shape(self) -> tuple[int, int] | None:
+        """(rows, cols) when pore ``i*cols + j`` sits at row i, column j; None otherwise."""
+        return None
+
+    @property
+    def pore_volumes(self) -> np.ndarray:
+        """(n_pores,) float: pore volumes in units of ``a**3`` (default 1)."""
+        return np.ones(self.n_pores)
+
+    # -- solid network (deformable media) ---------------------------------------------------
+    @property
+    def spring_particles(self) -> np.ndarray:
+        """(n_throats, 2) int64: the two particles joined by the spring that crosses throat t."""
+        raise NotImplementedError(f"{type(self).__name__} does not describe its particles")
+
+    @property
+    def particle_coords(self) -> np.ndarray:
+        """(n_particles, 2) float: particle centres in units of ``a``."""
+        raise NotImplementedError(f"{type(self).__name__} does not describe its particles")
+
+    # -- derived --------------------------------------------------------------------------
+    @cached_property
+    def adjacency(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """CSR neighbour lists ``(indptr, neighbours, throats)``.
+
+        The neighbours of pore ``p`` are ``neighbours[indptr[p]:indptr[p+1]]`` and the throats
+        that lead to them ``throats[indptr[p]:indptr[p+1]]``, sorted by throat index.
+        """
+        from porenet.kernels.graph import csr_adjacency
+
+        return csr_adjacency(self.throat_pores, self.n_pores)
+
+    def inlet_pores(self, at: str) -> np.ndarray:
+        """Pores the invading fluid occupies at the start.
+
+        ``"centre"``: the pore nearest the centroid; ``"left-edge"``: the pores with the
+        smallest x coordinate.
+        """
+        xy = self.pore_coords
+        if at == "centre":
+            c = xy.mean(axis=0)
+            d = np.hypot(xy[:, 0] - c[0], xy[:, 1] - c[1])
+            return np.array([int(np.argmin(d))], dtype=np.int64)
+        if at == "left-edge":
+            return np.flatnonzero(np.isclose(xy[:, 0], xy[:, 0].min())).astype(np.int64)
+        raise ValueError(f"unknown injection site {at!r}")
+
+    def outlet_mask(self, at: str) -> np.ndarray:
+        """(n_pores,) bool: pores connected to the outlet reservoir for an injection site.
+
+        Injection at the centre drains through the whole outer edge; injection at the left edge
+        drains through the right edge (top and bottom are closed).
+        """
+        if at == "centre":
+            return np.asarray(self.boundary_pores, dtype=bool)
+        if at == "left-edge":
+            x = self.pore_coords[:, 0]
+            return np.isclose(x, x.max())
+        raise ValueError(f"unknown injection site {at!r}")
+
+
+class FluidModel(ABC):
+    """Moves the fluid-fluid interface.
+
+    Reads ``state.apertures``. Writes ``drained``, ``trapped``, ``pressure``,
+    ``invading_pressure``, ``time``, ``step``, ``n_drained``, ``breakthrough`` and ``record``.
+
+    Class attributes
+    ----------------
+    solves_pressure : bool
+        True if the model solves for a defending-fluid pressure field (the Plan reports it).
+    """
+
+    solves_pressure: ClassVar[bool] = False
+
+    def __init__(self, config: ModelConfig, lattice: Lattice, context: RunContext) -> None:
+        self.config = config
+        self.lattice = lattice
+        self.context = context
+
+    def setup(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Called once before the loop; may drain the inlet pores and precompute."""
+
+    @abstractmethod
+    def advance(self, state: State, max_events: int) -> int:
+        """Advance until at most ``max_events`` pores have been drained; return how many were.
+
+        Returning 0 with :attr:`exhausted` True ends the run.
+        """
+
+    @property
+    @abstractmethod
+    def exhausted(self) -> bool:
+        """True when nothing more can be invaded."""
+
+    def finalize(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Called once after the loop (e.g. to settle the final trapped set)."""
+
+    def summary(self, state: State) -> dict[str, Any]:
+        """Scalar results (SI) for the run file's ``/summary`` group."""
+        return {}
+
+
+class SolidModel(ABC):
+    """Mechanics of the solid skeleton.
+
+    Reads the pore pressures handed over by the :class:`Coupler`. Writes
+    ``spring_compression``, ``spring_force`` and ``displacement``. A rigid medium has no
+    SolidModel object at all: the Plan builds none.
+    """
+
+    def __init__(self, config: ModelConfig, lattice: Lattice, context: RunContext) -> None:
+        self.config = config
+        self.lattice = lattice
+        self.context = context
+
+    def setup(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Called once before the loop (e.g. to apply the prestress)."""
+
+    @abstractmethod
+    def update(self, state: State, pore_pressure: np.ndarray) -> np.ndarray:
+        """Impose force balance under ``pore_pressure``; return the aperture change per throat."""
+
+
+class Coupler(ABC):
+    """Passes pressures from the fluid to the solid and apertures back.
+
+    Reads ``pressure``, ``invading_pressure``, ``drained``; writes ``apertures``.
+    """
+
+    def __init__(self, config: ModelConfig, context: RunContext) -> None:
+        self.config = config
+        self.context = context
+
+    @abstractmethod
+    def exchange(self, state: State, solid: SolidModel, events: int) -> None:
+        """Called after every fluid advance that drained ``events`` pores."""
+
+    def max_events(self) -> int | None:
+        """Largest number of drainage events the fluid may take between exchanges."""
+        return None
+
+
+class Observer(ABC):
+    """Sees the State when its trigger fires, and once more at the end.
+
+    Observers read the State and never write it.
+    """
+
+    trigger: Trigger = Never()
+
+    def __init__(self, config: ModelConfig | None = None) -> None:
+        self.config = config
+
+    def attach(self, run: Any) -> None:  # noqa: B027 - optional hook
+        """Called once before the loop with the :class:`~porenet.simulation.Simulation`."""
+
+    def observe(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Called after an advance whenever :attr:`trigger` fires."""
+
+    def close(self, state: State, result: Any) -> None:  # noqa: B027 - optional hook
+        """Called once at the end with the :class:`~porenet.result.RunResult`."""
+
+
+@dataclass(frozen=True)
+class Classification:
+    """A classifier's verdict on a pattern.
+
+    Attributes
+    ----------
+    regime : str
+        One of ``CF``, ``VF``, ``FR``, ``CF/VF``, ``FR/VF``, ``FR/CF``.
+    confidence : float
+        In [0, 1].
+    details : dict
+        Features and numbers the verdict rests on.
+    """
+
+    regime: str
+    confidence: float
+    details: dict[str, Any] = field(default_factory=dict)
+
+
+class Classifier(ABC):
+    """Labels an invasion pattern with a regime from a finished run."""
+
+    def __init__(self, config: ModelConfig | None = None) -> None:
+        self.config = config
+
+    @abstractmethod
+    def classify(self, run: Any) -> Classification:
+        """Classify a run (a :class:`~porenet.result.RunResult` or a run file's contents)."""

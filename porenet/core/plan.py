@@ -1,0 +1,147 @@
+"""The Plan: which effects a scene calls for and so which objects a run builds (DESIGN rule 7).
+
+The plan is computed from the validated scene and the registry alone (no model is imported or
+built), is printable (``porenet plan SCENE``), and is the only thing
+:class:`~porenet.simulation.Simulation` builds from.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from porenet.core.registry import Registry
+
+
+@dataclass(frozen=True)
+class ModelPlan:
+    """One model slot: whether it is built, by whom, and why."""
+
+    family: str
+    kind: str
+    package: str
+    built: bool
+    reason: str
+
+
+@dataclass(frozen=True)
+class Plan:
+    """The effects of a scene and the models that will be built for it.
+
+    Attributes
+    ----------
+    scene : SceneConfig
+        The validated scene.
+    effects : dict of str to bool
+        ``capillarity``, ``viscous_dissipation``, ``trapping``, ``deformation``,
+        ``contact_loss``: which physics the run simulates.
+    models : tuple of ModelPlan
+        Lattice, fluid, solid, coupler and observers, built or skipped.
+    output : Path or None
+        Run file to write at the end.
+    progress : bool
+        Whether a progress display is attached.
+    """
+
+    scene: Any
+    effects: dict[str, bool]
+    models: tuple[ModelPlan, ...]
+    output: Path | None = None
+    progress: bool = False
+    numbers: dict[str, float] = field(default_factory=dict)
+
+    def builds(self, family: str) -> bool:
+        """True if at least one model of ``family`` will be built."""
+        return any(m.built for m in self.models if m.family == family)
+
+    def describe(self) -> str:
+        """A human-readable account of the plan."""
+        lines = ["effects:"]
+        for name, on in self.effects.items():
+            lines.append(f"  {name:<20} {'yes' if on else 'no'}")
+        lines.append("models:")
+        for m in self.models:
+            status = "build" if m.built else "skip "
+            lines.append(f"  {status} {m.family:<10} {m.kind:<24} [{m.package}]  {m.reason}")
+        if self.numbers:
+            lines.append("numbers:")
+            for key, value in self.numbers.items():
+                lines.append(f"  {key:<20} {value:.6g}")
+        lines.append(f"output: {self.output if self.output else 'none (nothing written)'}")
+        return "\n".join(lines)
+
+
+def _effects(config: Any) -> dict[str, bool]:
+    effects = getattr(config, "effects", None)
+    return dict(effects()) if callable(effects) else {}
+
+
+def make_plan(
+    scene: Any, registry: Registry, *, output: str | Path | None = None, progress: bool = False
+) -> Plan:
+    """Plan the run of a validated scene."""
+    effects = {
+        "capillarity": True,
+        "viscous_dissipation": False,
+        "trapping": False,
+        "deformation": False,
+        "contact_loss": False,
+    }
+    models: list[ModelPlan] = []
+    lattice = registry.get("lattice", scene.lattice.kind)
+    models.append(ModelPlan("lattice", lattice.kind, lattice.package, True, "pore network"))
+    fluid = registry.get("fluid", scene.fluid.kind)
+    effects.update(_effects(scene.fluid))
+    reason = (
+        "pressure solve in the defending fluid"
+        if effects["viscous_dissipation"]
+        else "quasi-static: no pressure solve"
+    )
+    models.append(ModelPlan("fluid", fluid.kind, fluid.package, True, reason))
+    solid = registry.get("solid", scene.solid.kind)
+    effects.update(_effects(scene.solid))
+    if solid.config.builds_nothing:
+        models.append(
+            ModelPlan("solid", solid.kind, solid.package, False, "rigid: apertures never change")
+        )
+        models.append(ModelPlan("coupler", "-", "-", False, "no solid to couple"))
+    else:
+        models.append(ModelPlan("solid", solid.kind, solid.package, True, "mechanics"))
+        coupler_kind = getattr(scene.solid, "coupler", None) or "-"
+        models.append(ModelPlan("coupler", coupler_kind, "-", True, "fluid-solid exchange"))
+    for obs in scene.observers:
+        entry = registry.get("observer", obs.kind)
+        models.append(ModelPlan("observer", entry.kind, entry.package, True, "configured"))
+    if progress:
+        models.append(ModelPlan("observer", "progress", "porenet", True, "terminal display"))
+    if output is not None:
+        models.append(ModelPlan("observer", "run-file", "porenet", True, f"writes {output}"))
+    return Plan(
+        scene=scene,
+        effects=effects,
+        models=tuple(models),
+        output=None if output is None else Path(output),
+        progress=progress,
+        numbers=dimensionless_numbers(scene),
+    )
+
+
+def dimensionless_numbers(scene: Any) -> dict[str, float]:
+    """Size and disorder numbers of MODEL.md section 6 that the scene determines."""
+    lat = scene.lattice
+    numbers: dict[str, float] = {}
+    pore_size = getattr(lat, "pore_size", None)
+    n = getattr(lat, "n", None)
+    if n is not None:
+        numbers["pores_per_side"] = float(n)
+        if pore_size is not None:
+            numbers["L (m)"] = float(n) * float(pore_size)
+    lam = getattr(lat, "disorder", None)
+    if lam is not None:
+        numbers["disorder"] = float(lam)
+        numbers["lambda/(1-lambda^2)"] = float(lam) / (1.0 - float(lam) ** 2)
+    gamma = getattr(scene.fluid, "interfacial_tension", None)
+    if gamma is not None and pore_size is not None:
+        numbers["capillary pressure gamma/a (Pa)"] = float(gamma) / float(pore_size)
+    return numbers

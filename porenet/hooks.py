@@ -1,0 +1,230 @@
+"""Plugin hooks and the plugin loading policy.
+
+A plugin is a module (usually named by an entry point in the ``porenet.plugins`` group) that
+implements some of the hooks below with :data:`hookimpl`. Every hook only *registers* things:
+it receives a ``register`` callback and calls it once per kind::
+
+    from porenet.hooks import hookimpl
+
+    @hookimpl
+    def porenet_register_lattices(register):
+        register(MyLatticeConfig, "mypackage.lattice:MyLattice")
+
+``register(config, implementation)`` takes the pydantic config class (whose ``kind`` field is a
+single ``Literal``) and the implementation class, or a ``"module:Class"`` string imported only
+when a scene selects the kind. Third-party kinds must be namespaced (``"mypackage.kind"``).
+
+Loading policy
+--------------
+* Built-in kinds are registered through these same hooks by :mod:`porenet.builtin.plugin`.
+* Entry points of the group ``porenet.plugins`` are loaded one by one; a plugin that fails to
+  import or to register is reported and skipped, unless loading is strict (``strict=True``, or
+  the environment variable ``PORENET_STRICT_PLUGINS=1``, or ``CI=true``), in which case the
+  failure is an error.
+* ``PORENET_PLUGINS`` restricts which entry points load: a comma-separated list of entry-point
+  names; an empty string loads none (built-ins are always loaded).
+* A hook implementation whose name matches no hook specification is an error (pluggy's
+  ``check_pending``), so a misspelt hook never fails silently.
+* Nothing is loaded at ``import porenet``; the registry is built on first use.
+
+Hooks are never called in the simulation loop.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Callable
+from importlib.metadata import EntryPoint, entry_points
+from types import ModuleType
+from typing import Any
+
+import pluggy
+
+from porenet.core.errors import PluginError
+from porenet.core.registry import BUILTIN_PACKAGE, Registry
+
+log = logging.getLogger(__name__)
+
+PROJECT = "porenet"
+ENTRY_POINT_GROUP = "porenet.plugins"
+
+hookspec = pluggy.HookspecMarker(PROJECT)
+hookimpl = pluggy.HookimplMarker(PROJECT)
+
+#: A ``register(config_class, implementation)`` callback handed to every hook.
+Register = Callable[[type, "type | str | None"], Any]
+
+
+class HookSpecs:
+    """The hook specifications (one per family)."""
+
+    @hookspec
+    def porenet_register_lattices(self, register: Register) -> None:
+        """Register lattice kinds: ``register(LatticeConfig, LatticeClass)``.
+
+        The class subclasses :class:`porenet.core.interfaces.Lattice` and is constructed as
+        ``LatticeClass(config, rng)``.
+        """
+
+    @hookspec
+    def porenet_register_fluid_models(self, register: Register) -> None:
+        """Register fluid models: ``register(FluidConfig, FluidClass)``.
+
+        The class subclasses :class:`porenet.core.interfaces.FluidModel` and is constructed as
+        ``FluidClass(config, lattice, context)``.
+        """
+
+    @hookspec
+    def porenet_register_solid_models(self, register: Register) -> None:
+        """Register solid models: ``register(SolidConfig, SolidClass or None)``.
+
+        ``None`` (with ``SolidConfig.builds_nothing = True``) declares a kind that needs no
+        mechanics at all, like the built-in ``rigid``.
+        """
+
+    @hookspec
+    def porenet_register_couplers(self, register: Register) -> None:
+        """Register fluid-solid couplers: ``register(CouplerConfig, CouplerClass)``."""
+
+    @hookspec
+    def porenet_register_observers(self, register: Register) -> None:
+        """Register observers: ``register(ObserverConfig, ObserverClass)``.
+
+        The class subclasses :class:`porenet.core.interfaces.Observer` and is constructed as
+        ``ObserverClass(config)``.
+        """
+
+    @hookspec
+    def porenet_register_classifiers(self, register: Register) -> None:
+        """Register pattern classifiers: ``register(ClassifierConfig, ClassifierClass)``."""
+
+
+FAMILY_HOOKS: dict[str, str] = {
+    "lattice": "porenet_register_lattices",
+    "fluid": "porenet_register_fluid_models",
+    "solid": "porenet_register_solid_models",
+    "coupler": "porenet_register_couplers",
+    "observer": "porenet_register_observers",
+    "classifier": "porenet_register_classifiers",
+}
+
+
+def _env_strict() -> bool:
+    if os.environ.get("PORENET_STRICT_PLUGINS", "") not in ("", "0"):
+        return True
+    return os.environ.get("CI", "").lower() in ("1", "true", "yes")
+
+
+def _selected_entry_points() -> list[EntryPoint]:
+    eps = sorted(entry_points(group=ENTRY_POINT_GROUP), key=lambda ep: ep.name)
+    allowed = os.environ.get("PORENET_PLUGINS")
+    if allowed is None:
+        return eps
+    names = {n.strip() for n in allowed.split(",") if n.strip()}
+    return [ep for ep in eps if ep.name in names]
+
+
+def build_registry(
+    *, strict: bool | None = None, extra_plugins: dict[str, ModuleType] | None = None
+) -> Registry:
+    """Load the built-ins and every selected entry-point plugin into a new :class:`Registry`.
+
+    Parameters
+    ----------
+    strict : bool, optional
+        Turn a plugin's failure into an error instead of a warning. Default: from the
+        environment (``PORENET_STRICT_PLUGINS`` or ``CI``).
+    extra_plugins : dict, optional
+        ``{name: module}`` registered as if they came from entry points (for tests and for
+        authors trying a plugin before packaging it).
+    """
+    from porenet.builtin import plugin as builtin_plugin
+
+    strict = _env_strict() if strict is None else strict
+    registry = Registry()
+    pm = pluggy.PluginManager(PROJECT)
+    pm.add_hookspecs(HookSpecs)
+    packages: dict[str, str] = {BUILTIN_PACKAGE: BUILTIN_PACKAGE}
+    pm.register(builtin_plugin, name=BUILTIN_PACKAGE)
+
+    def fail(name: str, message: str, exc: BaseException | None = None) -> None:
+        if strict:
+            raise PluginError(message) from exc
+        log.warning("%s (plugin skipped)", message)
+        registry.failures.append((name, message))
+
+    candidates: list[tuple[str, str, Callable[[], Any]]] = []
+    for ep in _selected_entry_points():
+        dist = ep.dist.name if ep.dist is not None else ep.value.split(":")[0]
+        candidates.append((ep.name, dist, ep.load))
+    for name, module in (extra_plugins or {}).items():
+        candidates.append((name, name, lambda m=module: m))
+
+    for name, dist, load in candidates:
+        if pm.has_plugin(name):
+            fail(name, f"two plugins are named {name!r} (packages {packages[name]!r} and {dist!r})")
+            continue
+        try:
+            pm.register(load(), name=name)
+        except Exception as exc:  # isolate one broken plugin from the others
+            fail(name, f"plugin {name!r} from package {dist!r} failed to load: {exc}", exc)
+            continue
+        packages[name] = dist
+
+    try:
+        pm.check_pending()
+    except pluggy.PluginValidationError as exc:
+        raise PluginError(f"plugin {exc.plugin!r} implements an unknown hook: {exc}") from exc
+
+    for plugin_name in [n for n, _ in pm.list_name_plugin()]:
+        _register_one(pm, registry, plugin_name, packages.get(plugin_name, plugin_name), fail)
+    return registry
+
+
+def _register_one(
+    pm: pluggy.PluginManager,
+    registry: Registry,
+    plugin_name: str,
+    package: str,
+    fail: Callable[[str, str, BaseException | None], None],
+) -> None:
+    """Call one plugin's register hooks, committing its kinds only if all succeed."""
+    plugin = pm.get_plugin(plugin_name)
+    staged: list[tuple[str, type, Any]] = []
+    try:
+        for family, hook_name in FAMILY_HOOKS.items():
+            for impl in getattr(pm.hook, hook_name).get_hookimpls():
+                if impl.plugin is not plugin:
+                    continue
+                impl.function(
+                    register=lambda config, implementation, f=family: staged.append(
+                        (f, config, implementation)
+                    )
+                )
+        for family, config, implementation in staged:
+            registry.add(family, config, implementation, package=package, plugin=plugin_name)
+    except PluginError:
+        raise
+    except Exception as exc:
+        fail(plugin_name, f"plugin {plugin_name!r} failed while registering: {exc}", exc)
+
+
+_REGISTRY: Registry | None = None
+
+
+def get_registry() -> Registry:
+    """The process-wide registry, built on first use."""
+    global _REGISTRY
+    if _REGISTRY is None:
+        _REGISTRY = build_registry()
+    return _REGISTRY
+
+
+def reset_registry(registry: Registry | None = None) -> None:
+    """Replace (or, with None, forget) the process-wide registry; for tests."""
+    global _REGISTRY
+    _REGISTRY = registry
+    from porenet.config import scene as _scene
+
+    _scene.scene_model.cache_clear()

@@ -1,0 +1,1 @@
+"""Pure numerical kernels on arrays: no classes with state, no configs, no I/O."""

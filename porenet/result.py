@@ -1,0 +1,127 @@
+"""What a run produces: :class:`RunData` (SI arrays, as in the run file) and :class:`RunResult`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+    from porenet.core.interfaces import Lattice
+    from porenet.core.plan import Plan
+    from porenet.core.state import State
+
+
+@dataclass
+class RunData:
+    """Everything a run file holds, in SI units. Pore arrays are flat (``n_pores``).
+
+    Attributes
+    ----------
+    porenet_version : str
+        Version that produced the run.
+    scene : dict
+        The validated scene (JSON-compatible).
+    pore_size : float
+        ``a`` (m).
+    grid_shape : tuple of int or None
+        (rows, cols) when pores form a grid (pore ``i*cols + j``).
+    throat_pores : ndarray (M, 2) int64
+    pore_coords : ndarray (N, 2) float, m
+    apertures : ndarray (M,) float, m
+        Initial apertures, canonical throat order.
+    drained, trapped : ndarray (N,) bool
+        Final invader occupancy; defending pores cut off from the outlet.
+    order : ndarray (K,) int64
+        Pores in order of drainage (inlets first).
+    throat : ndarray (K,) int64
+        Throat through which each pore was entered (-1 for inlets).
+    invasion_pressure : ndarray (K,) float, Pa
+        Entry pressure overcome at each step (0 for inlets).
+    summary : dict
+        Scalars of ``/summary`` (SI).
+    pressure : ndarray (N,) float, Pa, or None
+        Final pore pressure where the fluid model defines one.
+    invasion_time : ndarray (K,) float, s, or None
+        Drainage times in dynamic models.
+    final_apertures : ndarray (M,) float, m, or None
+        Apertures at the end, for deformable media.
+    """
+
+    porenet_version: str
+    scene: dict[str, Any]
+    pore_size: float
+    grid_shape: tuple[int, int] | None
+    throat_pores: np.ndarray
+    pore_coords: np.ndarray
+    apertures: np.ndarray
+    drained: np.ndarray
+    trapped: np.ndarray
+    order: np.ndarray
+    throat: np.ndarray
+    invasion_pressure: np.ndarray
+    summary: dict[str, Any] = field(default_factory=dict)
+    pressure: np.ndarray | None = None
+    invasion_time: np.ndarray | None = None
+    final_apertures: np.ndarray | None = None
+
+    @property
+    def n_pores(self) -> int:
+        return int(self.drained.shape[0])
+
+    def as_grid(self, values: np.ndarray) -> np.ndarray:
+        """Reshape a pore array to ``grid_shape`` (ValueError for non-grid lattices)."""
+        if self.grid_shape is None:
+            raise ValueError("this lattice has no grid layout")
+        return np.asarray(values).reshape(self.grid_shape)
+
+    def drainage_step(self) -> np.ndarray:
+        """(N,) int64: step at which each pore drained, -1 if never."""
+        step = np.full(self.n_pores, -1, dtype=np.int64)
+        step[self.order] = np.arange(len(self.order))
+        return step
+
+
+@dataclass
+class RunResult:
+    """A finished run: its data (SI) and the live objects that produced it.
+
+    Attributes
+    ----------
+    data : RunData
+        Arrays and summary, exactly as written to the run file.
+    state : State
+        The final State (scaled units).
+    lattice : Lattice
+        The lattice the run used.
+    plan : Plan
+        The plan the simulation was built from.
+    path : Path or None
+        The run file, if one was written.
+    """
+
+    data: RunData
+    state: State
+    lattice: Lattice
+    plan: Plan
+    path: Path | None = None
+
+    @property
+    def summary(self) -> dict[str, Any]:
+        return self.data.summary
+
+    @property
+    def drained(self) -> np.ndarray:
+        """Final drained mask, as a grid when the lattice has one."""
+        d = self.data
+        return d.as_grid(d.drained) if d.grid_shape else d.drained
+
+    def plot(self, **kwargs: Any) -> Figure:
+        """The drained pattern coloured by drainage order (see :func:`porenet.viz.plot_pattern`)."""
+        from porenet.viz import plot_pattern
+
+        return plot_pattern(self.data, **kwargs)

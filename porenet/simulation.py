@@ -1,0 +1,235 @@
+"""Builds the models a Plan calls for and runs the loop (see porenet.core.interfaces)."""
+
+from __future__ import annotations
+
+import logging
+import time
+from typing import Any
+
+import numpy as np
+
+from porenet._version import __version__
+from porenet.core.errors import ConfigError, NumericalError
+from porenet.core.interfaces import Coupler, FluidModel, Lattice, Observer, RunContext, SolidModel
+from porenet.core.plan import Plan, make_plan
+from porenet.core.registry import Registry
+from porenet.core.state import State
+from porenet.core.units import Scales
+from porenet.kernels.bursts import burst_sizes
+from porenet.result import RunData, RunResult
+
+log = logging.getLogger(__name__)
+
+#: Chunk size (events) when no observer or coupler asks for a smaller one.
+UNBOUNDED = 1 << 62
+
+
+class Simulation:
+    """One run: a Lattice, a FluidModel, an optional SolidModel + Coupler, Observers, one State.
+
+    Build it from a :class:`~porenet.core.plan.Plan` (or with :meth:`from_scene`) and call
+    :meth:`run`. Random numbers come only from the scene's seed: the lattice and the models get
+    independent streams spawned from ``SeedSequence(seed)``.
+    """
+
+    def __init__(
+        self,
+        plan: Plan,
+        registry: Registry | None = None,
+        observers: list[Observer] | tuple[Observer, ...] = (),
+    ) -> None:
+        from porenet.hooks import get_registry
+
+        self.plan = plan
+        self.registry = registry or get_registry()
+        scene = plan.scene
+        lattice_seed, model_seed = np.random.SeedSequence(scene.seed).spawn(2)
+        try:
+            lattice_cls = self.registry.get("lattice", scene.lattice.kind).load()
+            self.lattice: Lattice = lattice_cls(scene.lattice, np.random.default_rng(lattice_seed))
+        except ValueError as exc:
+            raise ConfigError(f"lattice: {exc}") from exc
+        self.scales = Scales.from_physics(
+            scene.lattice.pore_size,
+            scene.fluid.interfacial_tension,
+            getattr(scene.fluid, "viscosity", None),
+        )
+        self.context = RunContext(
+            self.scales, scene.injection, scene.stop, np.random.default_rng(model_seed)
+        )
+        fluid_cls = self.registry.get("fluid", scene.fluid.kind).load()
+        self.fluid: FluidModel = fluid_cls(scene.fluid, self.lattice, self.context)
+        self.solid: SolidModel | None = None
+        self.coupler: Coupler | None = None
+        if plan.builds("solid"):
+            solid_cls = self.registry.get("solid", scene.solid.kind).load()
+            self.solid = solid_cls(scene.solid, self.lattice, self.context)
+            coupler_kind = getattr(scene.solid, "coupler", None)
+            if coupler_kind is None:
+                raise ConfigError(f"solid kind {scene.solid.kind!r} names no coupler")
+            coupler_entry = self.registry.get("coupler", coupler_kind)
+            self.coupler = coupler_entry.load()(scene.solid, self.context)  # type: ignore[misc]
+        self.observers: list[Observer] = []
+        for obs_config in scene.observers:
+            self.observers.append(self.registry.get("observer", obs_config.kind).load()(obs_config))
+        self.observers.extend(observers)
+        self.state = State.initial(self.lattice.n_pores, self.lattice.initial_apertures)
+
+    @classmethod
+    def from_scene(
+        cls,
+        scene: Any,
+        overrides: list[str] | tuple[str, ...] = (),
+        *,
+        output: Any = None,
+        progress: bool = False,
+        registry: Registry | None = None,
+    ) -> Simulation:
+        """Validate ``scene`` (path, dict or SceneConfig), plan it and build the simulation."""
+        from porenet.builtin.observers.progress import Progress
+        from porenet.builtin.observers.runfile import RunFileWriter
+        from porenet.config.loading import load_scene
+        from porenet.hooks import get_registry
+
+        registry = registry or get_registry()
+        config = load_scene(scene, overrides, registry=registry)
+        plan = make_plan(config, registry, output=output, progress=progress)
+        extra: list[Observer] = []
+        if progress:
+            extra.append(Progress())
+        if output is not None:
+            extra.append(RunFileWriter(output))
+        return cls(plan, registry, extra)
+
+    def _budget(self) -> int:
+        state, stop = self.state, self.plan.scene.stop
+        budget = UNBOUNDED
+        if stop.max_drained is not None:
+            budget = max(0, stop.max_drained - state.n_drained)
+        for obs in self.observers:
+            due = obs.trigger.events_until_due(state)
+            if due is not None:
+                budget = min(budget, due)
+        if self.coupler is not None:
+            limit = self.coupler.max_events()
+            if limit is not None:
+                budget = min(budget, limit)
+        return budget
+
+    def _stop_reason(self) -> str | None:
+        state, stop = self.state, self.plan.scene.stop
+        if stop.max_drained is not None and state.n_drained >= stop.max_drained:
+            return "max_drained"
+        if stop.at == "breakthrough" and state.breakthrough:
+            return "breakthrough"
+        if self.fluid.exhausted:
+            return "complete"
+        return None
+
+    def run(self) -> RunResult:
+        """Run to the stop criterion and return the result (observers closed, file written)."""
+        t0 = time.perf_counter()
+        state = self.state
+        self.fluid.setup(state)
+        if self.solid is not None:
+            self.solid.setup(state)
+        for obs in self.observers:
+            obs.trigger.reset()
+            obs.attach(self)
+        while (reason := self._stop_reason()) is None:
+            events = self.fluid.advance(state, self._budget())
+            if self.coupler is not None and self.solid is not None:
+                self.coupler.exchange(state, self.solid, events)
+            for obs in self.observers:
+                if obs.trigger.fires(state):
+                    obs.observe(state)
+        self.fluid.finalize(state)
+        self._check_finite()
+        wall = time.perf_counter() - t0
+        result = RunResult(self._data(reason, wall), state, self.lattice, self.plan)
+        for obs in self.observers:
+            obs.close(state, result)
+        log.info("run finished: %s after %d pores in %.3f s", reason, state.n_drained, wall)
+        return result
+
+    def _check_finite(self) -> None:
+        state = self.state
+        for name in ("pressure", "apertures"):
+            values = getattr(state, name)
+            if values is not None and not np.all(np.isfinite(values)):
+                bad = int(np.flatnonzero(~np.isfinite(values))[0])
+                raise NumericalError(
+                    f"non-finite {name} at index {bad} after {state.n_drained} drained pores "
+                    f"(t = {state.time:g} scaled)"
+                )
+
+    def _data(self, reason: str, wall: float) -> RunData:
+        state, lat, sc = self.state, self.lattice, self.scales
+        rec = state.record
+        k = rec.size
+        throat = rec.throat[:k].copy()
+        pressure_si = rec.pressure[:k] * sc.pressure
+        _, bursts = burst_sizes(rec.pressure[:k][throat >= 0])
+        n = lat.n_pores
+        summary: dict[str, Any] = {
+            "n_pores": n,
+            "n_drained": int(state.n_drained),
+            "drained_fraction": state.n_drained / n,
+            "n_trapped": int(state.trapped.sum()),
+            "trapped_fraction": float(state.trapped.sum()) / n,
+            "breakthrough": bool(state.breakthrough),
+            "stop_reason": reason,
+            "wall_time_s": wall,
+            "seed": int(self.plan.scene.seed),
+            "n_bursts": int(bursts.size),
+            "largest_burst": int(bursts.max()) if bursts.size else 0,
+        }
+        summary.update(self.fluid.summary(state))
+        dynamic = sc.time is not None
+        return RunData(
+            porenet_version=__version__,
+            scene=self.plan.scene.model_dump(mode="json"),
+            pore_size=sc.length,
+            grid_shape=lat.grid_shape,
+            throat_pores=np.asarray(lat.throat_pores),
+            pore_coords=np.asarray(lat.pore_coords) * sc.length,
+            apertures=np.asarray(lat.initial_apertures) * sc.length,
+            drained=state.drained.copy(),
+            trapped=state.trapped.copy(),
+            order=rec.order[:k].copy(),
+            throat=throat,
+            invasion_pressure=pressure_si,
+            summary=summary,
+            pressure=None if state.pressure is None else state.pressure * sc.pressure,
+            invasion_time=rec.time[:k] * sc.time if dynamic and sc.time else None,
+            final_apertures=(
+                state.apertures * sc.length if self.solid is not None else None
+            ),
+        )
+
+
+def run(
+    scene: Any,
+    overrides: list[str] | tuple[str, ...] = (),
+    *,
+    output: Any = None,
+    progress: bool = False,
+) -> RunResult:
+    """Validate, plan and run a scene.
+
+    Parameters
+    ----------
+    scene : str, Path, dict or SceneConfig
+        A TOML file, a dict with the same structure, or a validated scene.
+    overrides : list of str
+        Dotted ``KEY=VALUE`` overrides (``"lattice.n=64"``), validated like the file.
+    output : str or Path, optional
+        Run file (HDF5) to write atomically at the end.
+    progress : bool
+        Show progress on a terminal.
+
+    Returns
+    -------
+    RunResult
+    """
+    return Simulation.from_scene(scene, overrides, output=output, progress=progress).run()

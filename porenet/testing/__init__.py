@@ -1,0 +1,1 @@
+"""Public helpers for testing porenet and its plugins."""

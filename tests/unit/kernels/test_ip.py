@@ -1,0 +1,126 @@
+"""The invasion-percolation kernels against the slow reference implementation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from porenet.builtin.lattices.square import canonical_throats
+from porenet.kernels import ip
+from porenet.kernels.bitqueue import queue_insert, queue_min, queue_new, queue_remove
+from porenet.kernels.graph import csr_adjacency
+from porenet.testing.reference import reference_invasion
+
+
+def square(n: int, rng: np.random.Generator, ties: bool = False):
+    tp = canonical_throats(n)
+    if ties:
+        r = rng.integers(1, 4, size=len(tp)).astype(float)  # many exact ties
+    else:
+        r = rng.uniform(0.7, 1.3, size=len(tp))
+    outlet = np.zeros((n, n), dtype=bool)
+    outlet[0, :] = outlet[-1, :] = outlet[:, 0] = outlet[:, -1] = True
+    return tp, ip.entry_pressures(r), outlet.ravel()
+
+
+def run_kernel(tp, entry, inlets, outlet, trapping, stop):
+    adj = csr_adjacency(tp, len(outlet))
+    return ip.invasion_sequence(
+        adj, tp, entry, inlets, outlet, trapping=trapping, stop_at_outlet=stop,
+        max_steps=len(outlet),
+    )
+
+
+@pytest.mark.parametrize("trapping", [False, True])
+@pytest.mark.parametrize("stop", [False, True])
+@pytest.mark.parametrize("ties", [False, True])
+@pytest.mark.parametrize("n", [3, 4, 9, 24])
+def test_matches_reference(n, trapping, stop, ties):
+    for seed in range(3):
+        tp, entry, outlet = square(n, np.random.default_rng(seed), ties)
+        inlets = np.array([(n // 2) * n + n // 2])
+        order, via = run_kernel(tp, entry, inlets, outlet, trapping, stop)
+        ref_order, _ = reference_invasion(
+            tp, entry, inlets, outlet, trapping=trapping, stop_at_outlet=stop
+        )
+        assert order.tolist() == ref_order
+        assert via[0] == -1
+        # each pore was entered through a throat that touches it and an earlier drained pore
+        pos = {p: i for i, p in enumerate(order.tolist())}
+        for k in range(1, len(order)):
+            a, b = tp[via[k]]
+            other = b if a == order[k] else a
+            assert order[k] in (a, b) and pos[other] < k
+
+
+def test_edge_injection_matches_reference():
+    n = 12
+    tp, entry, _ = square(n, np.random.default_rng(5))
+    grid = np.arange(n * n).reshape(n, n)
+    inlets, outlet = grid[:, 0], np.zeros(n * n, dtype=bool)
+    outlet[grid[:, -1]] = True
+    for trapping in (False, True):
+        order, _ = run_kernel(tp, entry, inlets, outlet, trapping, True)
+        ref, _ = reference_invasion(tp, entry, inlets, outlet, trapping=trapping, stop_at_outlet=True)
+        assert order.tolist() == ref
+
+
+def test_trapped_set_matches_reference():
+    n = 20
+    tp, entry, outlet = square(n, np.random.default_rng(11))
+    inlets = np.array([(n // 2) * n + n // 2])
+    order, _ = run_kernel(tp, entry, inlets, outlet, True, False)
+    _, ref_trapped = reference_invasion(tp, entry, inlets, outlet, trapping=True, stop_at_outlet=False)
+    drained = np.zeros(n * n, dtype=bool)
+    drained[order] = True
+    indptr, nbrs, _ = csr_adjacency(tp, n * n)
+    enclosed = ip.enclosed_defender(indptr, nbrs, drained, outlet)
+    assert set(np.flatnonzero(enclosed).tolist()) == ref_trapped
+    assert drained.sum() + len(ref_trapped) == n * n  # complete: every pore drained or trapped
+
+
+def test_max_steps_counts_after_trapping():
+    n = 16
+    tp, entry, outlet = square(n, np.random.default_rng(2))
+    inlets = np.array([(n // 2) * n + n // 2])
+    adj = csr_adjacency(tp, n * n)
+    full, _ = ip.invasion_sequence(adj, tp, entry, inlets, outlet, trapping=True,
+                                   stop_at_outlet=False, max_steps=n * n)
+    part, _ = ip.invasion_sequence(adj, tp, entry, inlets, outlet, trapping=True,
+                                   stop_at_outlet=False, max_steps=50)
+    assert part.tolist() == full[:50].tolist()
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.booleans(), st.integers(0, 5000)), min_size=1, max_size=400))
+def test_bitqueue_is_a_priority_queue(ops):
+    words, offsets = queue_new(5001)
+    model: set[int] = set()
+    for insert, key in ops:
+        if insert:
+            queue_insert(words, offsets, key)
+            model.add(key)
+        else:
+            queue_remove(words, offsets, key)
+            model.discard(key)
+        assert queue_min(words, offsets) == (min(model) if model else -1)
+
+
+def test_csr_adjacency_lists_every_throat_twice_in_order():
+    tp = canonical_throats(5)
+    indptr, nbrs, thr = csr_adjacency(tp, 25)
+    assert indptr[-1] == 2 * len(tp)
+    for p in range(25):
+        ts = thr[indptr[p]:indptr[p + 1]]
+        assert np.all(np.diff(ts) > 0)
+        for q, t in zip(nbrs[indptr[p]:indptr[p + 1]], ts):
+            assert {p, q} == set(tp[t].tolist())
+
+
+def test_throat_ranks_break_ties_by_index():
+    entry = np.array([2.0, 1.0, 2.0, 1.0, 3.0])
+    by_rank, rank = ip.throat_ranks(entry)
+    assert by_rank.tolist() == [1, 3, 0, 2, 4]
+    assert rank[by_rank].tolist() == list(range(5))
