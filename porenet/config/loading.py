@@ -130,6 +130,13 @@ def format_validation_error(
             listed = f" (allowed: {', '.join(sorted(allowed))})" if allowed else ""
             lines.append(f"{source}: {dotted}: unknown field{hint}{listed}")
             continue
+        if parts and parts[-1] == "kind" and err["type"] in ("literal_error", "union_tag_invalid"):
+            family = {"observers": "observer"}.get(parts[0].split("[")[0], parts[0])
+            try:
+                registry.get(family, str(value))
+            except ConfigError as unknown:
+                lines.append(f"{source}: {dotted} = {value!r}: {unknown}")
+                continue
         if err["type"] == "missing":
             lines.append(f"{source}: {dotted}: required field is missing")
             continue

@@ -98,6 +98,12 @@ class Registry:
             kind = config.kind_name()
         except TypeError as exc:
             raise PluginError(f"plugin {plugin!r}: {exc}") from exc
+        existing = self._entries[family].get(kind)
+        if existing is not None:
+            raise PluginError(
+                f"{family} kind {kind!r} is registered twice: by package {existing.package!r} "
+                f"(plugin {existing.plugin!r}) and by package {package!r} (plugin {plugin!r})"
+            )
         if package != BUILTIN_PACKAGE and "." not in kind:
             raise PluginError(
                 f"plugin {plugin!r} (package {package!r}): third-party {family} kind {kind!r} "
@@ -108,12 +114,6 @@ class Registry:
         if isinstance(implementation, str) and ":" not in implementation:
             raise PluginError(
                 f"plugin {plugin!r}: implementation {implementation!r} must read 'module:Class'"
-            )
-        existing = self._entries[family].get(kind)
-        if existing is not None:
-            raise PluginError(
-                f"{family} kind {kind!r} is registered twice: by package {existing.package!r} "
-                f"(plugin {existing.plugin!r}) and by package {package!r} (plugin {plugin!r})"
             )
         entry = Entry(family, kind, config, implementation, package, plugin)
         self._entries[family][kind] = entry

@@ -1,0 +1,113 @@
+"""The porenet command, as a user meets it: exit codes and messages, never tracebacks."""
+
+from __future__ import annotations
+
+import json
+
+import h5py
+import numpy as np
+import pytest
+
+from porenet.cli import main
+
+SCENE = """
+name = "cli"
+seed = 2
+[lattice]
+n = 25
+disorder = 0.4
+[fluid]
+kind = "invasion-percolation"
+"""
+
+
+def test_run_writes_file_and_plot(write_scene, tmp_path, capsys):
+    path = write_scene(SCENE)
+    out, png = tmp_path / "o.h5", tmp_path / "o.png"
+    assert main(["run", str(path), "-o", str(out), "--plot", str(png)]) == 0
+    assert out.is_file() and png.stat().st_size > 1000
+    text = capsys.readouterr().out
+    assert "breakthrough" in text and str(out) in text
+    with h5py.File(out) as f:
+        assert json.loads(f.attrs["scene"])["lattice"]["n"] == 25
+
+
+def test_run_example_quickstart(tmp_path, capsys):
+    out = tmp_path / "q.h5"
+    assert main(["run", "--example", "quickstart", "-o", str(out), "--set", "lattice.n=40"]) == 0
+    assert out.is_file()
+
+
+def test_set_override_and_quiet(write_scene, tmp_path, capsys):
+    out = tmp_path / "o.h5"
+    assert main(["run", str(write_scene(SCENE)), "-o", str(out), "-q", "--set", "stop.at='complete'"]) == 0
+    assert capsys.readouterr().out == ""
+    with h5py.File(out) as f:
+        assert f["summary"].attrs["stop_reason"] == "complete"
+
+
+@pytest.mark.parametrize(
+    ("args", "expected"),
+    [
+        (["run", "absent.toml"], "no such file"),
+        (["run"], "no scene given"),
+        (["run", "--example", "nope"], "unknown example 'nope'"),
+        (["validate", "SCENE", "--set", "lattice.disorder=-1"], "lattice.disorder = -1"),
+        (["run", "SCENE", "-o", "/nonexistent-dir/x.h5"], "does not exist"),
+        (["plot", "absent.h5"], "no such run file"),
+        (["plot", "SCENE"], "not an HDF5 file"),
+    ],
+)
+def test_errors_exit_2_or_1_with_message(write_scene, capsys, args, expected):
+    path = str(write_scene(SCENE))
+    status = main([path if a == "SCENE" else a for a in args])
+    err = capsys.readouterr().err
+    assert status in (1, 2)
+    assert expected in err and "Traceback" not in err
+
+
+def test_config_error_exits_2(write_scene, capsys):
+    assert main(["run", str(write_scene(SCENE.replace("disorder", "dissorder")))]) == 2
+
+
+def test_no_partial_run_file_on_failure(write_scene, tmp_path):
+    out = tmp_path / "bad.h5"
+    assert main(["run", str(write_scene(SCENE)), "-o", str(out), "--set", "lattice.n=-1"]) == 2
+    assert list(tmp_path.glob("bad.h5*")) == []
+
+
+def test_validate_plan_plugins_schema(write_scene, capsys):
+    path = str(write_scene(SCENE))
+    assert main(["validate", path]) == 0
+    assert "valid" in capsys.readouterr().out
+    assert main(["validate", path, "--show"]) == 0
+    assert json.loads(capsys.readouterr().out)["lattice"]["disorder"] == 0.4
+    assert main(["plan", path]) == 0
+    plan = capsys.readouterr().out
+    assert "skip  solid" in plan and "no pressure solve" in plan
+    assert main(["plugins"]) == 0
+    listing = capsys.readouterr().out
+    assert "square" in listing and "invasion-percolation" in listing and "porenet" in listing
+    assert main(["schema"]) == 0
+    schema = json.loads(capsys.readouterr().out)
+    assert "lattice" in schema["properties"]
+
+
+def test_plot_command(write_scene, tmp_path):
+    out = tmp_path / "r.h5"
+    assert main(["run", str(write_scene(SCENE)), "-o", str(out), "-q"]) == 0
+    assert main(["plot", str(out)]) == 0
+    assert (tmp_path / "r.png").stat().st_size > 1000
+
+
+def test_module_entry_point_runs(write_scene, tmp_path):
+    import subprocess
+    import sys
+
+    out = tmp_path / "m.h5"
+    proc = subprocess.run(
+        [sys.executable, "-m", "porenet", "run", str(write_scene(SCENE)), "-o", str(out), "-q"],
+        capture_output=True, text=True, check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert np.asarray(h5py.File(out)["final/drained"]).shape == (25, 25)

@@ -1,0 +1,157 @@
+"""Scene validation: every bad input is a ConfigError naming the file, field and value."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from porenet.config.loading import apply_overrides, load_scene, parse_override
+from porenet.core.errors import ConfigError
+
+GOOD = """
+seed = 3
+[lattice]
+kind = "square"
+n = 20
+disorder = 0.3
+[fluid]
+kind = "invasion-percolation"
+"""
+
+
+def error_of(scene, *overrides) -> str:
+    with pytest.raises(ConfigError) as info:
+        load_scene(scene, list(overrides))
+    return str(info.value)
+
+
+def test_defaults_and_round_trip(write_scene):
+    scene = load_scene(write_scene(GOOD))
+    assert scene.seed == 3 and scene.lattice.n == 20
+    assert scene.solid.kind == "rigid" and scene.stop.at == "breakthrough"
+    assert scene.fluid.trapping is True and scene.fluid.interfacial_tension == 0.07
+    assert scene.injection.at == "centre"
+    again = load_scene(scene.model_dump(mode="json"))
+    assert again == scene
+
+
+def test_kind_may_be_omitted(scene_dict):
+    del scene_dict["lattice"]["kind"], scene_dict["fluid"]["kind"], scene_dict["solid"]
+    scene = load_scene(scene_dict)
+    assert scene.lattice.kind == "square" and scene.fluid.kind == "invasion-percolation"
+
+
+def test_typo_in_field_name_suggests_the_right_one(write_scene):
+    path = write_scene(GOOD.replace("disorder", "dissorder"))
+    msg = error_of(path)
+    assert str(path) in msg and "lattice.dissorder" in msg and "did you mean 'disorder'" in msg
+
+
+def test_typo_in_top_level_field(write_scene):
+    msg = error_of(write_scene("sead = 1\n" + GOOD))
+    assert "sead: unknown field" in msg and "'seed'" in msg
+
+
+@pytest.mark.parametrize(
+    ("override", "field", "shown"),
+    [
+        ("lattice.disorder=-0.1", "lattice.disorder", "-0.1"),
+        ("lattice.disorder=1.0", "lattice.disorder", "1.0"),
+        ("lattice.n=2", "lattice.n", "2"),
+        ("lattice.pore_size=0", "lattice.pore_size", "0"),
+        ("fluid.interfacial_tension=-1", "fluid.interfacial_tension", "-1"),
+        ("stop.at='never'", "stop.at", "'never'"),
+        ("stop.max_drained=0", "stop.max_drained", "0"),
+        ("seed=-4", "seed", "-4"),
+        ("injection.at='top'", "injection.at", "'top'"),
+    ],
+)
+def test_bad_values_name_field_and_value(write_scene, override, field, shown):
+    path = write_scene(GOOD)
+    msg = error_of(path, override)
+    assert f"{path}: {field} = {shown}" in msg
+
+
+def test_unknown_kind_lists_registered_kinds(write_scene):
+    msg = error_of(write_scene(GOOD.replace('"square"', '"sqaure"')))
+    assert "lattice.kind = 'sqaure'" in msg and "did you mean 'square'" in msg
+
+
+def test_missing_file_and_bad_toml(tmp_path, write_scene):
+    assert "no such file" in error_of(tmp_path / "absent.toml")
+    assert "not valid TOML" in error_of(write_scene("x = [\n"))
+
+
+def test_disorder_required_without_file(write_scene):
+    msg = error_of(write_scene(GOOD.replace("disorder = 0.3\n", "")))
+    assert "'disorder' is required" in msg
+
+
+def test_apertures_file_relative_to_scene(tmp_path, write_scene):
+    n = 6
+    np.savez(tmp_path / "ap.npz", apertures=np.full(2 * n * (n - 1), 1e-7))
+    text = f'[lattice]\nn = {n}\napertures_file = "ap.npz"\n[fluid]\n'
+    scene = load_scene(write_scene(text))
+    assert scene.lattice.apertures_file == (tmp_path / "ap.npz").resolve()
+
+
+@pytest.mark.parametrize(
+    ("content", "expected"),
+    [
+        (dict(apertures=np.ones(7)), "has shape (7,), expected (60,)"),
+        (dict(apertures=-np.ones(60)), "not positive and finite"),
+        (dict(apertures=np.r_[np.ones(59), np.nan]), "not positive and finite"),
+        (dict(radii=np.ones(60)), "no array named 'apertures'"),
+    ],
+)
+def test_bad_apertures_file(tmp_path, write_scene, content, expected):
+    np.savez(tmp_path / "ap.npz", **content)
+    msg = error_of(write_scene('[lattice]\nn = 6\napertures_file = "ap.npz"\n[fluid]\n'))
+    assert expected in msg and "ap.npz" in msg
+
+
+def test_missing_apertures_file(write_scene):
+    msg = error_of(write_scene('[lattice]\nn = 6\napertures_file = "gone.npz"\n[fluid]\n'))
+    assert "lattice.apertures_file = 'gone.npz': file not found" in msg
+
+
+def test_overrides_are_validated_like_the_file(write_scene):
+    scene = load_scene(write_scene(GOOD), ["lattice.n=12", "stop.at='complete'", "name=run1"])
+    assert scene.lattice.n == 12 and scene.stop.at == "complete" and scene.name == "run1"
+    assert "lattice.n = 'abc'" in error_of(write_scene(GOOD), "lattice.n=abc")
+    assert "expected KEY=VALUE" in error_of(write_scene(GOOD), "lattice.n")
+
+
+def test_configs_are_frozen(write_scene):
+    scene = load_scene(write_scene(GOOD))
+    with pytest.raises(Exception):  # noqa: B017 - pydantic's frozen error
+        scene.lattice.n = 5  # type: ignore[misc]
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    n=st.integers(-5, 60),
+    disorder=st.one_of(st.floats(-1, 2), st.just(float("nan")), st.just(float("inf"))),
+    trapping=st.sampled_from([True, False, "x", 3]),
+)
+def test_any_input_validates_or_raises_config_error(n, disorder, trapping):
+    data = {
+        "lattice": {"n": n, "disorder": disorder},
+        "fluid": {"trapping": trapping},
+    }
+    try:
+        scene = load_scene(data)
+    except ConfigError as exc:
+        assert "invalid scene" in str(exc)
+    else:
+        assert 3 <= scene.lattice.n and 0 < scene.lattice.disorder < 1
+
+
+def test_parse_override_types():
+    assert parse_override("a.b=3") == (["a", "b"], 3)
+    assert parse_override("a=0.5") == (["a"], 0.5)
+    assert parse_override("a=true") == (["a"], True)
+    assert parse_override("a=plain") == (["a"], "plain")
+    assert apply_overrides({"a": {"b": 1}}, ["a.c=2"]) == {"a": {"b": 1, "c": 2}}

@@ -1,0 +1,41 @@
+"""Only the effects a scene calls for are built; importing porenet stays light."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import porenet
+from porenet.config.loading import load_scene
+from porenet.core.plan import make_plan
+from porenet.hooks import get_registry
+from porenet.simulation import Simulation
+
+
+def test_rigid_ip_scene_builds_no_solid_coupler_or_pressure(scene_dict):
+    reg = get_registry()
+    plan = make_plan(load_scene(scene_dict), reg)
+    assert not plan.builds("solid") and not plan.builds("coupler")
+    assert plan.effects["viscous_dissipation"] is False and plan.effects["deformation"] is False
+    sim = Simulation(plan, reg)
+    assert sim.solid is None and sim.coupler is None and sim.observers == []
+    assert type(sim.fluid).solves_pressure is False
+    result = sim.run()
+    assert result.state.pressure is None and result.data.pressure is None
+    assert result.data.final_apertures is None
+    assert "rigid: apertures never change" in plan.describe()
+
+
+def test_apertures_never_change_in_rigid_medium(scene_dict):
+    result = porenet.run(scene_dict | {"stop": {"at": "complete"}})
+    assert (result.state.apertures == result.lattice.initial_apertures).all()
+
+
+def test_import_porenet_loads_no_plugin_numba_h5py_matplotlib():
+    code = (
+        "import sys, porenet; "
+        "heavy = [m for m in ('numba', 'h5py', 'matplotlib', 'porenet.builtin', 'pluggy') "
+        "if m in sys.modules]; print(heavy)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
