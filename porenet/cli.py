@@ -12,7 +12,6 @@ import json
 import logging
 import sys
 from pathlib import Path
-from typing import Any
 
 from porenet._version import __version__
 from porenet.core.errors import ConfigError, PorenetError
@@ -100,14 +99,14 @@ def cmd_plugins(args: argparse.Namespace) -> int:
     from porenet.hooks import get_registry
 
     registry = get_registry()
+    header = ("family", "kind", "package", "plugin")
     rows = [(e.family, e.kind, e.package, e.plugin) for e in registry]
     if args.json:
-        print(json.dumps([dict(zip(("family", "kind", "package", "plugin"), r)) for r in rows]))
+        print(json.dumps([dict(zip(header, r, strict=True)) for r in rows]))
         return 0
-    widths = [max(len(r[i]) for r in [*rows, ("family", "kind", "package", "plugin")]) for i in range(4)]
-    header = ("family", "kind", "package", "plugin")
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     for r in [header, *rows]:
-        print("  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip())
+        print("  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip())
     for name, message in registry.failures:
         print(f"failed: {name}: {message}", file=sys.stderr)
     return 0
@@ -197,5 +196,3 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 1
-
-

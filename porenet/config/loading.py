@@ -50,7 +50,9 @@ def parse_override(item: str) -> tuple[list[str], Any]:
     key, sep, raw = item.partition("=")
     key = key.strip()
     if not sep or not key or any(not part for part in key.split(".")):
-        raise ConfigError(f"--set {item!r}: expected KEY=VALUE with a dotted KEY, e.g. lattice.n=64")
+        raise ConfigError(
+            f"--set {item!r}: expected KEY=VALUE with a dotted KEY, e.g. lattice.n=64"
+        )
     try:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
@@ -97,7 +99,9 @@ def _walk_loc(data: Any, loc: tuple[Any, ...]) -> tuple[list[str], Any]:
     return parts, (None if node is missing else node)
 
 
-def _allowed_fields(model: type[BaseModel], data: Any, parts: list[str], registry: Registry) -> list[str]:
+def _allowed_fields(
+    model: type[BaseModel], data: Any, parts: list[str], registry: Registry
+) -> list[str]:
     """Field names allowed in the table that holds the unknown field ``parts[-1]``."""
     if len(parts) == 1:
         return list(model.model_fields)

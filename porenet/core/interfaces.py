@@ -245,7 +245,7 @@ class Coupler(ABC):
         return None
 
 
-class Observer(ABC):
+class Observer(ABC):  # noqa: B024 - every hook is optional
     """Sees the State when its trigger fires, and once more at the end.
 
     Observers read the State and never write it.

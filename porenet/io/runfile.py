@@ -109,7 +109,9 @@ def read_run(path: str | Path) -> RunData:
                 f"({FORMAT_VERSION}); upgrade porenet"
             )
         lat = f["lattice"]
-        shape = tuple(int(x) for x in lat.attrs["grid_shape"]) if "grid_shape" in lat.attrs else None
+        shape = (
+            tuple(int(x) for x in lat.attrs["grid_shape"]) if "grid_shape" in lat.attrs else None
+        )
 
         def flat(name: str) -> np.ndarray | None:
             return np.asarray(f[name][()]).ravel() if name in f else None

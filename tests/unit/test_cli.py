@@ -40,7 +40,10 @@ def test_run_example_quickstart(tmp_path, capsys):
 
 def test_set_override_and_quiet(write_scene, tmp_path, capsys):
     out = tmp_path / "o.h5"
-    assert main(["run", str(write_scene(SCENE)), "-o", str(out), "-q", "--set", "stop.at='complete'"]) == 0
+    assert (
+        main(["run", str(write_scene(SCENE)), "-o", str(out), "-q", "--set", "stop.at='complete'"])
+        == 0
+    )
     assert capsys.readouterr().out == ""
     with h5py.File(out) as f:
         assert f["summary"].attrs["stop_reason"] == "complete"
@@ -107,7 +110,9 @@ def test_module_entry_point_runs(write_scene, tmp_path):
     out = tmp_path / "m.h5"
     proc = subprocess.run(
         [sys.executable, "-m", "porenet", "run", str(write_scene(SCENE)), "-o", str(out), "-q"],
-        capture_output=True, text=True, check=False,
+        capture_output=True,
+        text=True,
+        check=False,
     )
     assert proc.returncode == 0, proc.stderr
     assert np.asarray(h5py.File(out)["final/drained"]).shape == (25, 25)

@@ -146,7 +146,7 @@ def test_any_input_validates_or_raises_config_error(n, disorder, trapping):
     except ConfigError as exc:
         assert "invalid scene" in str(exc)
     else:
-        assert 3 <= scene.lattice.n and 0 < scene.lattice.disorder < 1
+        assert scene.lattice.n >= 3 and 0 < scene.lattice.disorder < 1
 
 
 def test_parse_override_types():

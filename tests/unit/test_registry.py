@@ -37,8 +37,10 @@ def test_third_party_kind_and_lazy_implementation():
     def porenet_register_lattices(register):
         register(NamespacedConfig, "porenet.builtin.lattices.square:SquareLattice")
 
-    reg = build_registry(strict=True, extra_plugins={"demo": plugin_module(
-        porenet_register_lattices=porenet_register_lattices)})
+    reg = build_registry(
+        strict=True,
+        extra_plugins={"demo": plugin_module(porenet_register_lattices=porenet_register_lattices)},
+    )
     entry = reg.get("lattice", "demo.square")
     assert entry.package == "demo" and entry.load() is SquareLattice
 
@@ -47,9 +49,13 @@ def test_duplicate_kind_names_both_packages():
     def porenet_register_lattices(register):
         register(SquareLatticeConfig, SquareLattice)
 
-    with pytest.raises(PluginError, match="registered twice.*'porenet'.*'dup'"):
-        build_registry(strict=True, extra_plugins={"dup": plugin_module(
-            porenet_register_lattices=porenet_register_lattices)})
+    with pytest.raises(PluginError, match=r"registered twice.*'porenet'.*'dup'"):
+        build_registry(
+            strict=True,
+            extra_plugins={
+                "dup": plugin_module(porenet_register_lattices=porenet_register_lattices)
+            },
+        )
 
 
 def test_unnamespaced_third_party_kind_rejected():
@@ -57,8 +63,12 @@ def test_unnamespaced_third_party_kind_rejected():
         register(BareConfig, SquareLattice)
 
     with pytest.raises(PluginError, match="must be namespaced"):
-        build_registry(strict=True, extra_plugins={"bare": plugin_module(
-            porenet_register_lattices=porenet_register_lattices)})
+        build_registry(
+            strict=True,
+            extra_plugins={
+                "bare": plugin_module(porenet_register_lattices=porenet_register_lattices)
+            },
+        )
 
 
 def test_misspelt_hook_is_an_error():
@@ -66,8 +76,12 @@ def test_misspelt_hook_is_an_error():
         pass
 
     with pytest.raises(PluginError, match="unknown hook"):
-        build_registry(strict=False, extra_plugins={"typo": plugin_module(
-            porenet_register_latices=porenet_register_latices)})
+        build_registry(
+            strict=False,
+            extra_plugins={
+                "typo": plugin_module(porenet_register_latices=porenet_register_latices)
+            },
+        )
 
 
 def test_broken_plugin_is_isolated_unless_strict():

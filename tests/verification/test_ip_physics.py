@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 import porenet
-from porenet.builtin.lattices.square import canonical_throats
 from porenet.testing.reference import reference_invasion
 
 
@@ -40,8 +39,12 @@ def test_matches_reference_on_a_run_through_the_framework():
         result = porenet.run(scene(n, seed=5, trapping=trapping, at="complete"))
         lat = result.lattice
         ref, trapped = reference_invasion(
-            lat.throat_pores, 2.0 / lat.initial_apertures, lat.inlet_pores("centre"),
-            lat.boundary_pores, trapping=trapping, stop_at_outlet=False,
+            lat.throat_pores,
+            2.0 / lat.initial_apertures,
+            lat.inlet_pores("centre"),
+            lat.boundary_pores,
+            trapping=trapping,
+            stop_at_outlet=False,
         )
         assert result.data.order.tolist() == ref
         if trapping:
@@ -51,7 +54,7 @@ def test_matches_reference_on_a_run_through_the_framework():
 def transpose_apertures(r, n):
     """Apertures of the mirror image in the diagonal i <-> j (canonical order)."""
     h = r[: n * (n - 1)].reshape(n, n - 1)  # throat (i,j)-(i,j+1)
-    v = r[n * (n - 1):].reshape(n - 1, n)  # throat (i,j)-(i+1,j)
+    v = r[n * (n - 1) :].reshape(n - 1, n)  # throat (i,j)-(i+1,j)
     return np.concatenate([v.T.ravel(), h.T.ravel()])
 
 
@@ -68,14 +71,18 @@ def test_mirror_symmetry(tmp_path, trapping):
         runs.append(porenet.run(s).data)
     i, j = np.divmod(runs[0].order, n)
     np.testing.assert_array_equal(runs[1].order, j * n + i)
-    np.testing.assert_array_equal(runs[1].as_grid(runs[1].trapped), runs[0].as_grid(runs[0].trapped).T)
+    np.testing.assert_array_equal(
+        runs[1].as_grid(runs[1].trapped), runs[0].as_grid(runs[0].trapped).T
+    )
 
 
 def test_apertures_file_used_verbatim(tmp_path):
     n = 9
     r = np.random.default_rng(2).uniform(0.5, 1.5, 2 * n * (n - 1)) * 1e-7
     np.savez(tmp_path / "a.npz", apertures=r)
-    data = porenet.run({"lattice": {"n": n, "apertures_file": str(tmp_path / "a.npz")}, "fluid": {}}).data
+    data = porenet.run(
+        {"lattice": {"n": n, "apertures_file": str(tmp_path / "a.npz")}, "fluid": {}}
+    ).data
     np.testing.assert_array_equal(data.apertures, r)
 
 
@@ -105,7 +112,9 @@ def test_trapping_only_removes_steps():
 
 
 def test_max_drained_stops_exactly():
-    res = porenet.run(scene(60, seed=1, at="complete") | {"stop": {"at": "complete", "max_drained": 100}})
+    res = porenet.run(
+        scene(60, seed=1, at="complete") | {"stop": {"at": "complete", "max_drained": 100}}
+    )
     assert res.summary["n_drained"] == 100 and res.summary["stop_reason"] == "max_drained"
 
 

@@ -28,7 +28,13 @@ def square(n: int, rng: np.random.Generator, ties: bool = False):
 def run_kernel(tp, entry, inlets, outlet, trapping, stop):
     adj = csr_adjacency(tp, len(outlet))
     return ip.invasion_sequence(
-        adj, tp, entry, inlets, outlet, trapping=trapping, stop_at_outlet=stop,
+        adj,
+        tp,
+        entry,
+        inlets,
+        outlet,
+        trapping=trapping,
+        stop_at_outlet=stop,
         max_steps=len(outlet),
     )
 
@@ -63,7 +69,9 @@ def test_edge_injection_matches_reference():
     outlet[grid[:, -1]] = True
     for trapping in (False, True):
         order, _ = run_kernel(tp, entry, inlets, outlet, trapping, True)
-        ref, _ = reference_invasion(tp, entry, inlets, outlet, trapping=trapping, stop_at_outlet=True)
+        ref, _ = reference_invasion(
+            tp, entry, inlets, outlet, trapping=trapping, stop_at_outlet=True
+        )
         assert order.tolist() == ref
 
 
@@ -72,7 +80,9 @@ def test_trapped_set_matches_reference():
     tp, entry, outlet = square(n, np.random.default_rng(11))
     inlets = np.array([(n // 2) * n + n // 2])
     order, _ = run_kernel(tp, entry, inlets, outlet, True, False)
-    _, ref_trapped = reference_invasion(tp, entry, inlets, outlet, trapping=True, stop_at_outlet=False)
+    _, ref_trapped = reference_invasion(
+        tp, entry, inlets, outlet, trapping=True, stop_at_outlet=False
+    )
     drained = np.zeros(n * n, dtype=bool)
     drained[order] = True
     indptr, nbrs, _ = csr_adjacency(tp, n * n)
@@ -86,10 +96,12 @@ def test_max_steps_counts_after_trapping():
     tp, entry, outlet = square(n, np.random.default_rng(2))
     inlets = np.array([(n // 2) * n + n // 2])
     adj = csr_adjacency(tp, n * n)
-    full, _ = ip.invasion_sequence(adj, tp, entry, inlets, outlet, trapping=True,
-                                   stop_at_outlet=False, max_steps=n * n)
-    part, _ = ip.invasion_sequence(adj, tp, entry, inlets, outlet, trapping=True,
-                                   stop_at_outlet=False, max_steps=50)
+    full, _ = ip.invasion_sequence(
+        adj, tp, entry, inlets, outlet, trapping=True, stop_at_outlet=False, max_steps=n * n
+    )
+    part, _ = ip.invasion_sequence(
+        adj, tp, entry, inlets, outlet, trapping=True, stop_at_outlet=False, max_steps=50
+    )
     assert part.tolist() == full[:50].tolist()
 
 
@@ -113,9 +125,9 @@ def test_csr_adjacency_lists_every_throat_twice_in_order():
     indptr, nbrs, thr = csr_adjacency(tp, 25)
     assert indptr[-1] == 2 * len(tp)
     for p in range(25):
-        ts = thr[indptr[p]:indptr[p + 1]]
+        ts = thr[indptr[p] : indptr[p + 1]]
         assert np.all(np.diff(ts) > 0)
-        for q, t in zip(nbrs[indptr[p]:indptr[p + 1]], ts):
+        for q, t in zip(nbrs[indptr[p] : indptr[p + 1]], ts, strict=False):
             assert {p, q} == set(tp[t].tolist())
 
 
