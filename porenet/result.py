@@ -50,6 +50,8 @@ class RunData:
         Drainage times in dynamic models.
     final_apertures : ndarray (M,) float, m, or None
         Apertures at the end, for deformable media.
+    burst_sizes : ndarray (B,) int64
+        Steps in each burst (runs between record highs of the entry pressure), in order.
     """
 
     porenet_version: str
@@ -68,6 +70,7 @@ class RunData:
     pressure: np.ndarray | None = None
     invasion_time: np.ndarray | None = None
     final_apertures: np.ndarray | None = None
+    burst_sizes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
     @property
     def n_pores(self) -> int:

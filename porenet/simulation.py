@@ -202,6 +202,7 @@ class Simulation:
             summary=summary,
             pressure=None if state.pressure is None else state.pressure * sc.pressure,
             invasion_time=rec.time[:k] * sc.time if dynamic and sc.time else None,
+            burst_sizes=bursts,
             final_apertures=(state.apertures * sc.length if self.solid is not None else None),
         )
 

@@ -66,6 +66,7 @@ def write_run(path: str | Path, data: RunData) -> Path:
             inv.create_dataset("order", data=data.order, compression="gzip")
             inv.create_dataset("throat", data=data.throat, compression="gzip")
             inv.create_dataset("pressure", data=data.invasion_pressure, compression="gzip")
+            inv.create_dataset("burst_sizes", data=data.burst_sizes, compression="gzip")
             if data.invasion_time is not None:
                 inv.create_dataset("time", data=data.invasion_time, compression="gzip")
             summ = f.create_group("summary")
@@ -133,5 +134,6 @@ def read_run(path: str | Path) -> RunData:
             throat=f["invasion/throat"][()],
             invasion_pressure=f["invasion/pressure"][()],
             invasion_time=flat("invasion/time"),
+            burst_sizes=f["invasion/burst_sizes"][()],
             summary=summary,
         )

@@ -29,7 +29,16 @@ def test_layout_and_round_trip(scene_dict, tmp_path):
             assert key in f["summary"].attrs
     data = read_run(out)
     ref = result.data
-    for name in ("apertures", "drained", "trapped", "order", "throat", "invasion_pressure"):
+    names = (
+        "apertures",
+        "drained",
+        "trapped",
+        "order",
+        "throat",
+        "invasion_pressure",
+        "burst_sizes",
+    )
+    for name in names:
         np.testing.assert_array_equal(getattr(data, name), getattr(ref, name))
     assert data.summary["n_drained"] == ref.summary["n_drained"]
     assert data.scene == ref.scene and data.grid_shape == (n, n)

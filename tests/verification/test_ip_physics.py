@@ -133,6 +133,11 @@ def test_pressure_signal_and_bursts():
     assert (p > 0).all()
     assert data.summary["largest_burst"] >= 1 and data.summary["n_bursts"] >= 1
     assert np.isclose(data.summary["max_entry_pressure"], p.max())
+    # bursts partition the steps; each opens with a new record high of the pressure signal
+    assert data.burst_sizes.sum() == p.size and len(data.burst_sizes) == data.summary["n_bursts"]
+    starts = np.concatenate([[0], np.cumsum(data.burst_sizes)[:-1]])
+    running = np.maximum.accumulate(p)
+    assert np.all(p[starts[1:]] > running[starts[1:] - 1])
 
 
 @pytest.mark.slow
