@@ -11,8 +11,8 @@ from porenet.kernels._jit import njit
 def _fill_csr(throat_pores: np.ndarray, indptr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     m = throat_pores.shape[0]
     cursor = indptr[:-1].copy()
-    neighbours = np.empty(2 * m, dtype=np.int64)
-    throats = np.empty(2 * m, dtype=np.int64)
+    neighbours = np.empty(2 * m, dtype=indptr.dtype)
+    throats = np.empty(2 * m, dtype=indptr.dtype)
     for t in range(m):
         a = throat_pores[t, 0]
         b = throat_pores[t, 1]
@@ -38,15 +38,17 @@ def csr_adjacency(
 
     Returns
     -------
-    indptr : ndarray of int64, shape (N+1,)
-    neighbours : ndarray of int64, shape (2M,)
+    indptr : ndarray of int32 (int64 for more than 2**30 throats), shape (N+1,)
+    neighbours : ndarray, shape (2M,)
         ``neighbours[indptr[p]:indptr[p+1]]`` are the pores next to ``p``...
-    throats : ndarray of int64, shape (2M,)
+    throats : ndarray, shape (2M,)
         ...through these throats, in increasing throat index.
     """
-    tp = np.ascontiguousarray(throat_pores, dtype=np.int64)
+    small = 2 * len(throat_pores) < 2**31 - 1
+    index = np.int32 if small else np.int64
+    tp = np.ascontiguousarray(throat_pores, dtype=index)
     counts = np.bincount(tp.ravel(), minlength=n_pores)
-    indptr = np.zeros(n_pores + 1, dtype=np.int64)
+    indptr = np.zeros(n_pores + 1, dtype=index)
     np.cumsum(counts, out=indptr[1:])
     neighbours, throats = _fill_csr(tp, indptr)
     return indptr, neighbours, throats

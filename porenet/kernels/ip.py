@@ -23,6 +23,7 @@ import numpy as np
 
 from porenet.kernels._jit import njit
 from porenet.kernels.bitqueue import queue_insert, queue_min, queue_new, queue_remove
+from porenet.kernels.sorting import stable_argsort
 from porenet.kernels.unionfind import uf_find, uf_union
 
 
@@ -48,11 +49,7 @@ def throat_ranks(entry: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         Rank of each throat (the inverse permutation).
     """
     m = entry.shape[0]
-    by_rank = np.argsort(entry)  # introsort: ~3x faster than a stable sort
-    ordered = entry[by_rank]
-    if m > 1 and bool(np.any(ordered[1:] == ordered[:-1])):
-        by_rank = np.argsort(entry, kind="stable")  # ties exist: break them by throat index
-    by_rank = by_rank.astype(np.int64, copy=False)
+    by_rank = stable_argsort(entry)
     rank = np.empty(m, dtype=np.int64)
     rank[by_rank] = np.arange(m, dtype=np.int64)
     return by_rank, rank
@@ -63,7 +60,6 @@ def invade(
     indptr: np.ndarray,
     neighbours: np.ndarray,
     neighbour_rank: np.ndarray,
-    pores_by_rank: np.ndarray,
     inlets: np.ndarray,
     outlet: np.ndarray,
     stop_at_outlet: bool,
@@ -71,19 +67,19 @@ def invade(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Invasion percolation without trapping, on throats relabelled by rank.
 
-    Throats are addressed by their rank (see :func:`throat_ranks`), so the queue holds the
-    keys themselves; it holds exactly the throats between drained and undrained pores.
+    Throats are addressed by their rank (see :func:`throat_ranks`), so the queue holds the keys
+    themselves. The queue holds exactly the throats between drained and undrained pores (a
+    throat whose second pore drains is removed at once), so the throat it yields always leads
+    to an undrained pore, recorded when the throat was queued.
 
     Parameters
     ----------
-    indptr : ndarray of int64, shape (N+1,)
+    indptr : ndarray of int, shape (N+1,)
         CSR row pointer of the pore adjacency.
-    neighbours : ndarray of int64, shape (2M,)
+    neighbours : ndarray of int, shape (2M,)
         Neighbouring pore of each CSR entry.
-    neighbour_rank : ndarray of int64, shape (2M,)
+    neighbour_rank : ndarray of int, shape (2M,)
         Rank of the throat behind each CSR entry (``rank[throats]``).
-    pores_by_rank : ndarray of int64, shape (M, 2)
-        The two pores of the throat of each rank (``throat_pores[by_rank]``).
     inlets : ndarray of int64
         Pores drained at the start, recorded first in the given order.
     outlet : ndarray of bool, shape (N,)
@@ -101,10 +97,11 @@ def invade(
         Rank of the throat through which each pore was entered, -1 for inlets.
     """
     n = indptr.shape[0] - 1
-    m = pores_by_rank.shape[0]
+    m = neighbour_rank.shape[0] // 2
     drained = np.zeros(n, dtype=np.bool_)
     order = np.empty(n, dtype=np.int64)
     via = np.empty(n, dtype=np.int64)
+    target = np.empty(max(m, 1), dtype=neighbours.dtype)
     words, offsets = queue_new(m)
     k = 0
     done = False
@@ -120,15 +117,16 @@ def invade(
     for i in range(k):
         p = order[i]
         for e in range(indptr[p], indptr[p + 1]):
-            if not drained[neighbours[e]]:
-                queue_insert(words, offsets, neighbour_rank[e])
+            q = neighbours[e]
+            if not drained[q]:
+                r = neighbour_rank[e]
+                target[r] = q
+                queue_insert(words, offsets, r)
     while k < max_steps and not done:
         r = queue_min(words, offsets)
         if r < 0:
             break
-        q = pores_by_rank[r, 0]
-        if drained[q]:
-            q = pores_by_rank[r, 1]
+        q = target[r]
         drained[q] = True
         order[k] = q
         via[k] = r
@@ -136,16 +134,18 @@ def invade(
         if stop_at_outlet and outlet[q]:
             break
         for e in range(indptr[q], indptr[q + 1]):
-            if drained[neighbours[e]]:
-                queue_remove(words, offsets, neighbour_rank[e])  # now internal to the invader
+            nb = neighbours[e]
+            r2 = neighbour_rank[e]
+            if drained[nb]:
+                queue_remove(words, offsets, r2)  # now internal to the invader
             else:
-                queue_insert(words, offsets, neighbour_rank[e])
+                target[r2] = nb
+                queue_insert(words, offsets, r2)
     return order[:k].copy(), via[:k].copy()
 
 
 def invasion_sequence(
     adjacency: tuple[np.ndarray, np.ndarray, np.ndarray],
-    throat_pores: np.ndarray,
     entry: np.ndarray,
     inlets: np.ndarray,
     outlet: np.ndarray,
@@ -160,7 +160,6 @@ def invasion_sequence(
     ----------
     adjacency : (indptr, neighbours, throats)
         CSR adjacency of the pores (:attr:`porenet.core.interfaces.Lattice.adjacency`).
-    throat_pores : ndarray of int64, shape (M, 2)
     entry : ndarray of float64, shape (M,)
         Entry pressures (any consistent unit).
     inlets : ndarray of int64
@@ -181,10 +180,10 @@ def invasion_sequence(
     """
     indptr, neighbours, throats = adjacency
     by_rank, rank = throat_ranks(entry)
-    pores_by_rank = np.ascontiguousarray(np.asarray(throat_pores, dtype=np.int64)[by_rank])
+    small = np.int32 if len(entry) < 2**31 - 1 else np.int64
     limit = indptr.shape[0] - 1 if trapping else max_steps
     order, via_rank = invade(
-        indptr, neighbours, rank[throats], pores_by_rank, inlets, outlet, stop_at_outlet, limit
+        indptr, neighbours, rank.astype(small)[throats], inlets, outlet, stop_at_outlet, limit
     )
     if trapping:
         keep = ~trapped_steps(indptr, neighbours, order, outlet, len(inlets))
@@ -226,8 +225,8 @@ def trapped_steps(
     """
     n = indptr.shape[0] - 1
     out = n
-    parent = np.arange(n + 1, dtype=np.int64)
-    size = np.ones(n + 1, dtype=np.int64)
+    parent = np.arange(n + 1).astype(indptr.dtype)
+    size = np.ones(n + 1, dtype=indptr.dtype)
     present = np.ones(n, dtype=np.bool_)
     for i in range(order.shape[0]):
         present[order[i]] = False

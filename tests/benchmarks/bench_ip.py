@@ -79,7 +79,6 @@ def porenet_case(n: int, trapping: bool, apertures_file: Path, repeat: int):
     t_kernel, _ = median_time(
         lambda: ip.invasion_sequence(
             lat.adjacency,
-            lat.throat_pores,
             entry,
             lat.inlet_pores("centre"),
             lat.boundary_pores,

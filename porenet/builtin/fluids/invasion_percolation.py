@@ -55,7 +55,6 @@ class InvasionPercolation(FluidModel):
         max_steps = lat.n_pores if stop.max_drained is None else int(stop.max_drained)
         order, via = ip.invasion_sequence(
             lat.adjacency,
-            lat.throat_pores,
             self._entry,
             lat.inlet_pores(at),
             self._outlet,

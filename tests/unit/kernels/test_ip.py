@@ -29,7 +29,6 @@ def run_kernel(tp, entry, inlets, outlet, trapping, stop):
     adj = csr_adjacency(tp, len(outlet))
     return ip.invasion_sequence(
         adj,
-        tp,
         entry,
         inlets,
         outlet,
@@ -97,10 +96,10 @@ def test_max_steps_counts_after_trapping():
     inlets = np.array([(n // 2) * n + n // 2])
     adj = csr_adjacency(tp, n * n)
     full, _ = ip.invasion_sequence(
-        adj, tp, entry, inlets, outlet, trapping=True, stop_at_outlet=False, max_steps=n * n
+        adj, entry, inlets, outlet, trapping=True, stop_at_outlet=False, max_steps=n * n
     )
     part, _ = ip.invasion_sequence(
-        adj, tp, entry, inlets, outlet, trapping=True, stop_at_outlet=False, max_steps=50
+        adj, entry, inlets, outlet, trapping=True, stop_at_outlet=False, max_steps=50
     )
     assert part.tolist() == full[:50].tolist()
 
@@ -136,3 +135,26 @@ def test_throat_ranks_break_ties_by_index():
     by_rank, rank = ip.throat_ranks(entry)
     assert by_rank.tolist() == [1, 3, 0, 2, 4]
     assert rank[by_rank].tolist() == list(range(5))
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    st.lists(
+        st.one_of(st.floats(0.1, 10.0), st.sampled_from([1.0, 2.0, 1e-3, 1e3])),
+        min_size=1,
+        max_size=300,
+    )
+)
+def test_stable_argsort_equals_numpy_stable(values):
+    from porenet.kernels.sorting import stable_argsort
+
+    v = np.asarray(values)
+    np.testing.assert_array_equal(stable_argsort(v), np.argsort(v, kind="stable"))
+
+
+def test_stable_argsort_falls_back_on_uneven_distributions():
+    from porenet.kernels.sorting import MAX_BUCKET, stable_argsort
+
+    v = np.concatenate([np.linspace(1.0, 1.0 + 1e-9, 10 * MAX_BUCKET), [1e6]])  # one big bucket
+    v = np.random.default_rng(0).permutation(v)
+    np.testing.assert_array_equal(stable_argsort(v), np.argsort(v, kind="stable"))
