@@ -14,6 +14,7 @@ Canonical throat order: first the horizontal throats ``(i,j)-(i,j+1)``, row-majo
 
 from __future__ import annotations
 
+import functools
 from functools import cached_property
 from pathlib import Path
 from typing import Any, Literal
@@ -33,6 +34,19 @@ def canonical_throats(n: int) -> np.ndarray:
     horizontal = np.stack([idx[:, :-1].ravel(), idx[:, 1:].ravel()], axis=1)
     vertical = np.stack([idx[:-1, :].ravel(), idx[1:, :].ravel()], axis=1)
     return np.concatenate([horizontal, vertical])
+
+
+@functools.lru_cache(maxsize=4)
+def _topology(n: int) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Read-only throat pairs and CSR adjacency of an n x n lattice, shared by all lattices of
+    that size in a process (sweeps and replicates rebuild only the apertures)."""
+    from porenet.kernels.graph import csr_adjacency
+
+    throats = canonical_throats(n)
+    adjacency = csr_adjacency(throats, n * n)
+    for array in (throats, *adjacency):
+        array.setflags(write=False)
+    return throats, adjacency
 
 
 def load_apertures_file(path: Path, n: int) -> np.ndarray:
@@ -156,9 +170,13 @@ class SquareLattice(Lattice):
     def n_pores(self) -> int:
         return self.n * self.n
 
-    @cached_property
+    @property
     def throat_pores(self) -> np.ndarray:
-        return canonical_throats(self.n)
+        return _topology(self.n)[0]
+
+    @property
+    def adjacency(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return _topology(self.n)[1]
 
     @cached_property
     def pore_coords(self) -> np.ndarray:
