@@ -150,6 +150,19 @@ def main() -> None:
                     f"same order: {same}  drained {result.summary['n_drained']}",
                     flush=True,
                 )
+    from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
+    from porenet.testing.reference import reference_invasion
+
+    n = min(args.sizes)
+    lat = SquareLattice(SquareLatticeConfig(n=n, disorder=0.3), np.random.default_rng(0))
+    t_ref, _ = median_time(
+        lambda: reference_invasion(
+            lat.throat_pores, 2.0 / lat.initial_apertures, lat.inlet_pores("centre"),
+            lat.boundary_pores, trapping=False, stop_at_outlet=False,
+        ),
+        1,
+    )
+    print(f"pure-Python heapq reference, n={n}, no trapping: {t_ref:.2f} s")
     t_cold = cold_quickstart(args.repeat if args.repeat < 5 else 5)
     print(f"cold `porenet run --example quickstart` (process, imports, n=200): {t_cold:.2f} s")
     print(f"openpnm available: {have_openpnm}; python {sys.version.split()[0]}")
