@@ -185,7 +185,6 @@ class Simulation:
             "largest_burst": int(bursts.max()) if bursts.size else 0,
         }
         summary.update(self.fluid.summary(state))
-        dynamic = sc.time is not None
         return RunData(
             porenet_version=__version__,
             scene=self.plan.scene.model_dump(mode="json"),
@@ -201,7 +200,7 @@ class Simulation:
             invasion_pressure=pressure_si,
             summary=summary,
             pressure=None if state.pressure is None else state.pressure * sc.pressure,
-            invasion_time=rec.time[:k] * sc.time if dynamic and sc.time else None,
+            invasion_time=None if sc.time is None else rec.time[:k] * sc.time,
             burst_sizes=bursts,
             final_apertures=(state.apertures * sc.length if self.solid is not None else None),
         )

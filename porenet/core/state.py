@@ -24,7 +24,7 @@ until a solid exists)
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -119,7 +119,6 @@ class State:
     spring_compression: np.ndarray | None = None
     spring_force: np.ndarray | None = None
     displacement: np.ndarray | None = None
-    extras: dict[str, np.ndarray] = field(default_factory=dict)
 
     @classmethod
     def initial(cls, n_pores: int, apertures: np.ndarray) -> State:
