@@ -14,8 +14,7 @@ Canonical throat order: first the horizontal throats ``(i,j)-(i,j+1)``, row-majo
 
 from __future__ import annotations
 
-import functools
-from functools import cached_property
+from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import Any, Literal
 
@@ -36,7 +35,7 @@ def canonical_throats(n: int) -> np.ndarray:
     return np.concatenate([horizontal, vertical])
 
 
-@functools.lru_cache(maxsize=4)
+@lru_cache(maxsize=4)
 def _topology(n: int) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """Read-only throat pairs and CSR adjacency of an n x n lattice, shared by all lattices of
     that size in a process (sweeps and replicates rebuild only the apertures)."""
