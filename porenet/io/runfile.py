@@ -73,6 +73,9 @@ def write_run(path: str | Path, data: RunData) -> Path:
             for key, value in data.summary.items():
                 if value is not None:
                     summ.attrs[key] = _attr(value)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
         os.replace(tmp, path)
     except BaseException as exc:
         with contextlib.suppress(OSError):

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import stat
 
 import h5py
 import numpy as np
@@ -27,6 +29,9 @@ def test_layout_and_round_trip(scene_dict, tmp_path):
         assert f["invasion/order"].shape == f["invasion/pressure"].shape
         for key in ("n_drained", "breakthrough", "wall_time_s"):
             assert key in f["summary"].attrs
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o666 & ~mask  # permissions like any new file
     data = read_run(out)
     ref = result.data
     names = (
