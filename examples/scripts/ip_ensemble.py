@@ -21,7 +21,7 @@ import numpy as np
 import porenet
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests" / "benchmarks"))
-from openpnm_ip import openpnm_available, openpnm_invasion  # noqa: E402
+from openpnm_ip import openpnm_available, openpnm_invasion
 
 
 def main() -> None:

@@ -40,11 +40,12 @@ What OpenPNM 3.6.4 actually does (read from
 """
 from __future__ import annotations
 
+import contextlib
 import time
 
 import numpy as np
 
-__all__ = ["openpnm_available", "openpnm_invasion", "canonical_throat_conns"]
+__all__ = ["canonical_throat_conns", "openpnm_available", "openpnm_invasion"]
 
 _WARMUP_SECONDS: float | None = None
 
@@ -154,10 +155,8 @@ def _run(ctx, trapping: bool):
 
 
 def _close(ctx):
-    try:
+    with contextlib.suppress(Exception):
         ctx["op"].Workspace().close_project(ctx["pn"].project)
-    except Exception:
-        pass
 
 
 def _warmup() -> float:
