@@ -1,0 +1,26 @@
+"""Every example scene in examples/scenes validates (plugin scenes when the plugin loads)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from porenet.config.loading import load_scene, read_toml
+from porenet.hooks import build_registry
+
+SCENES = sorted((Path(__file__).resolve().parents[2] / "examples" / "scenes").glob("*.toml"))
+
+
+@pytest.mark.parametrize("path", SCENES, ids=[p.stem for p in SCENES])
+def test_example_scene_validates(path):
+    registry = build_registry()
+    kind = read_toml(path)["lattice"].get("kind", "square")
+    if ("lattice", kind) not in registry:
+        import sys
+
+        sys.path.insert(0, str(path.parents[2] / "plugins" / "porenet-correlated" / "src"))
+        import porenet_correlated.plugin
+
+        registry = build_registry(extra_plugins={"correlated": porenet_correlated.plugin})
+    load_scene(path, registry=registry)
