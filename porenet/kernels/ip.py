@@ -24,7 +24,7 @@ import numpy as np
 from porenet.kernels._jit import njit
 from porenet.kernels.bitqueue import queue_insert, queue_min, queue_new, queue_remove
 from porenet.kernels.sorting import stable_argsort
-from porenet.kernels.unionfind import uf_find, uf_union
+from porenet.kernels.unionfind import uf_find, uf_link, uf_union
 
 
 def entry_pressures(apertures: np.ndarray) -> np.ndarray:
@@ -242,14 +242,15 @@ def trapped_steps(
     for t in range(order.shape[0] - 1, -1, -1):
         p = order[t]
         present[p] = True
+        root = p  # p is a singleton: its own root
         if outlet[p]:
-            uf_union(parent, size, p, out)
+            root = uf_link(parent, size, root, out)
         for e in range(indptr[p], indptr[p + 1]):
             q = neighbours[e]
             if present[q]:
-                uf_union(parent, size, p, q)
+                root = uf_link(parent, size, root, q)
         if t >= n_inlets:
-            trapped[t] = uf_find(parent, p) != uf_find(parent, out)
+            trapped[t] = root != uf_find(parent, out)
     return trapped
 
 

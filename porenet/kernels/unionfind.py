@@ -30,3 +30,20 @@ def uf_union(parent: np.ndarray, size: np.ndarray, a: int, b: int) -> None:
         ra, rb = rb, ra
     parent[rb] = ra
     size[ra] += size[rb]
+
+
+@njit
+def uf_link(parent: np.ndarray, size: np.ndarray, root: int, b: int) -> int:
+    """Merge ``b``'s set into the set whose root is ``root``; return the new root.
+
+    Saves the second find of :func:`uf_union` when the caller already holds a root (adding one
+    element and linking it to each of its neighbours in turn).
+    """
+    rb = uf_find(parent, b)
+    if rb == root:
+        return root
+    if size[root] < size[rb]:
+        root, rb = rb, root
+    parent[rb] = root
+    size[root] += size[rb]
+    return root
