@@ -40,6 +40,7 @@ class Simulation:
     ) -> None:
         from porenet.hooks import get_registry
 
+        t0 = time.perf_counter()
         self.plan = plan
         self.registry = registry or get_registry()
         scene = plan.scene
@@ -74,6 +75,7 @@ class Simulation:
             self.observers.append(self.registry.get("observer", obs_config.kind).load()(obs_config))
         self.observers.extend(observers)
         self.state = State.initial(self.lattice.n_pores, self.lattice.initial_apertures)
+        self.build_time = time.perf_counter() - t0
 
     @classmethod
     def from_scene(
@@ -137,7 +139,13 @@ class Simulation:
             obs.trigger.reset()
             obs.attach(self)
         while (reason := self._stop_reason()) is None:
+            time_before = state.time
             events = self.fluid.advance(state, self._budget())
+            if events == 0 and state.time == time_before and not self.fluid.exhausted:
+                raise NumericalError(
+                    f"fluid model {type(self.fluid).__name__} made no progress (no pore drained, "
+                    f"time unchanged) after {state.n_drained} drained pores at step {state.step}"
+                )
             if self.coupler is not None and self.solid is not None:
                 self.coupler.exchange(state, self.solid, events)
             for obs in self.observers:
@@ -145,7 +153,7 @@ class Simulation:
                     obs.observe(state)
         self.fluid.finalize(state)
         self._check_finite()
-        wall = time.perf_counter() - t0
+        wall = time.perf_counter() - t0 + self.build_time
         result = RunResult(self._data(reason, wall), state, self.lattice, self.plan)
         for obs in self.observers:
             obs.close(state, result)

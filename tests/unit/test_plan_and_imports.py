@@ -39,3 +39,20 @@ def test_import_porenet_loads_no_plugin_numba_h5py_matplotlib():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_a_fluid_model_that_stalls_is_reported_not_a_hang(scene_dict):
+    import pytest
+
+    from porenet.core.errors import NumericalError
+
+    sim = Simulation.from_scene(scene_dict)
+    sim.fluid.advance = lambda state, max_events: 0  # a broken model: never drains, no time
+    with pytest.raises(NumericalError, match="made no progress"):
+        sim.run()
+
+
+def test_wall_time_includes_the_build(scene_dict):
+    sim = Simulation.from_scene(scene_dict)
+    result = sim.run()
+    assert result.summary["wall_time_s"] >= sim.build_time > 0
