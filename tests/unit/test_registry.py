@@ -17,6 +17,11 @@ def plugin_module(**hooks):
     return types.SimpleNamespace(**{name: hookimpl(fn) for name, fn in hooks.items()})
 
 
+def load_with(name, strict=True, **hooks):
+    """Build a registry with one extra plugin made of ``hooks``."""
+    return build_registry(strict=strict, extra_plugins={name: plugin_module(**hooks)})
+
+
 class NamespacedConfig(SquareLatticeConfig):
     kind: Literal["demo.square"] = "demo.square"
 
@@ -38,10 +43,7 @@ def test_third_party_kind_and_lazy_implementation():
     def porenet_register_lattices(register):
         register(NamespacedConfig, "porenet.builtin.lattices.square:SquareLattice")
 
-    reg = build_registry(
-        strict=True,
-        extra_plugins={"demo": plugin_module(porenet_register_lattices=porenet_register_lattices)},
-    )
+    reg = load_with("demo", strict=True, porenet_register_lattices=porenet_register_lattices)
     entry = reg.get("lattice", "demo.square")
     assert entry.package == "demo" and entry.load() is SquareLattice
 
@@ -51,12 +53,7 @@ def test_duplicate_kind_names_both_packages():
         register(SquareLatticeConfig, SquareLattice)
 
     with pytest.raises(PluginError, match=r"registered twice.*'porenet'.*'dup'"):
-        build_registry(
-            strict=True,
-            extra_plugins={
-                "dup": plugin_module(porenet_register_lattices=porenet_register_lattices)
-            },
-        )
+        load_with("dup", strict=True, porenet_register_lattices=porenet_register_lattices)
 
 
 def test_unnamespaced_third_party_kind_rejected():
@@ -64,12 +61,7 @@ def test_unnamespaced_third_party_kind_rejected():
         register(BareConfig, SquareLattice)
 
     with pytest.raises(PluginError, match="must be namespaced"):
-        build_registry(
-            strict=True,
-            extra_plugins={
-                "bare": plugin_module(porenet_register_lattices=porenet_register_lattices)
-            },
-        )
+        load_with("bare", strict=True, porenet_register_lattices=porenet_register_lattices)
 
 
 def test_misspelt_hook_is_an_error():
@@ -77,12 +69,7 @@ def test_misspelt_hook_is_an_error():
         pass
 
     with pytest.raises(PluginError, match="unknown hook"):
-        build_registry(
-            strict=False,
-            extra_plugins={
-                "typo": plugin_module(porenet_register_latices=porenet_register_latices)
-            },
-        )
+        load_with("typo", strict=False, porenet_register_latices=porenet_register_latices)
 
 
 def test_broken_plugin_is_isolated_unless_strict():
