@@ -1,9 +1,14 @@
-"""The JIT decorator used by porenet's kernels.
+"""The JIT decorator used by porenet's kernels, and two low-level helpers for them.
 
 Numba compiles each kernel once per machine and caches the machine code on disk
 (``cache=True``), so only the first run after installation pays the compilation (a few
 seconds); later processes load the cache. If numba cannot be imported the kernels still run,
 as plain (slow) Python, and a warning says so.
+
+:func:`prefetch` asks the CPU to start loading ``array[index]`` into the cache without waiting
+for it (a no-op without numba), and :func:`trailing_zeros` is the hardware count of trailing
+zero bits of a non-zero 64-bit word (a de Bruijn multiplication where numba's intrinsic is
+missing). Use them inside kernels.
 """
 
 from __future__ import annotations
@@ -11,6 +16,8 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from typing import Any
+
+import numpy as np
 
 log = logging.getLogger(__name__)
 
@@ -29,3 +36,63 @@ def njit(func: Callable[..., Any]) -> Callable[..., Any]:
     if not HAVE_NUMBA:
         return func
     return numba.njit(cache=True, nogil=True)(func)  # type: ignore[no-any-return]
+
+
+def _prefetch_py(array: np.ndarray, index: int) -> None:
+    """Stand-in for :func:`prefetch` without numba: does nothing."""
+
+
+_DEBRUIJN = np.uint64(0x03F79D71B4CB0A89)
+_DEBRUIJN_TABLE = np.array(
+    [
+        0, 1, 48, 2, 57, 49, 28, 3, 61, 58, 50, 42, 38, 29, 17, 4,
+        62, 55, 59, 36, 53, 51, 43, 22, 45, 39, 33, 30, 24, 18, 12, 5,
+        63, 47, 56, 27, 60, 41, 37, 16, 54, 35, 52, 21, 44, 32, 23, 11,
+        46, 26, 40, 15, 34, 20, 31, 10, 25, 14, 19, 9, 13, 8, 7, 6,
+    ],
+    dtype=np.uint64,
+)  # fmt: skip
+
+
+@njit
+def _trailing_zeros_debruijn(word: np.uint64) -> np.uint64:
+    """Stand-in for :func:`trailing_zeros` without numba's intrinsic: de Bruijn
+    multiplication (``word`` must be non-zero)."""
+    isolated = word & (~word + np.uint64(1))
+    return _DEBRUIJN_TABLE[(isolated * _DEBRUIJN) >> np.uint64(58)]
+
+
+prefetch: Callable[[np.ndarray, int], None] = _prefetch_py
+trailing_zeros: Callable[[np.uint64], np.uint64] = _trailing_zeros_debruijn
+
+if HAVE_NUMBA:
+    from llvmlite import ir
+    from numba.core import cgutils, types
+    from numba.extending import intrinsic
+
+    try:  # numba's count-trailing-zeros intrinsic (llvm.cttz), internal but long-standing
+        from numba.cpython.unsafe.numbers import trailing_zeros as _numba_trailing_zeros
+    except ImportError:  # pragma: no cover
+        _numba_trailing_zeros = _trailing_zeros_debruijn
+
+    @intrinsic
+    def _prefetch_intrinsic(typingctx: Any, array: Any, index: Any) -> Any:
+        """``prefetch(array, index)``: LLVM's ``llvm.prefetch`` (read, keep in all caches) of
+        the element's address. Not bounds-checked, which is harmless: a prefetch never faults."""
+        if not isinstance(array, types.Array) or not isinstance(index, types.Integer):
+            return None
+
+        def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+            ary = context.make_array(signature.args[0])(context, builder, args[0])
+            address = builder.gep(ary.data, [args[1]])
+            i8p = ir.IntType(8).as_pointer()
+            i32 = ir.IntType(32)
+            fnty = ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32])
+            fn = cgutils.get_or_insert_function(builder.module, fnty, "llvm.prefetch.p0i8")
+            builder.call(fn, [builder.bitcast(address, i8p), i32(0), i32(3), i32(1)])
+            return context.get_dummy_value()
+
+        return types.void(array, index), codegen
+
+    prefetch = _prefetch_intrinsic
+    trailing_zeros = _numba_trailing_zeros

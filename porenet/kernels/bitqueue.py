@@ -4,35 +4,27 @@ Level 0 holds one bit per key; each bit of level ``l+1`` says whether the 64-bit
 is non-empty. Insert, delete and find-min touch one word per level (4 levels for M up to
 16.7 million), with no comparisons of keys, so it beats a binary heap for invasion
 percolation, whose keys are throat ranks (see :mod:`porenet.kernels.ip`). Unlike a heap it can
-delete any key in O(levels), so the queue holds exactly the invadable throats.
+delete any key in O(levels), so the queue holds exactly the current candidates (in the
+invasion: one rank per pore next to the invader).
 
 All functions are numba kernels operating on the ``(words, offsets)`` arrays made by
 :func:`queue_new`: level ``l`` occupies ``words[offsets[l]:offsets[l+1]]``.
+
+:func:`queue_pop_min` removes the smallest key and finds the next one in a single walk: up from
+the removed key's word only as far as words empty out, then down again.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit
-
-_DEBRUIJN = np.uint64(0x03F79D71B4CB0A89)
-_DEBRUIJN_TABLE = np.array(
-    [
-        0, 1, 48, 2, 57, 49, 28, 3, 61, 58, 50, 42, 38, 29, 17, 4,
-        62, 55, 59, 36, 53, 51, 43, 22, 45, 39, 33, 30, 24, 18, 12, 5,
-        63, 47, 56, 27, 60, 41, 37, 16, 54, 35, 52, 21, 44, 32, 23, 11,
-        46, 26, 40, 15, 34, 20, 31, 10, 25, 14, 19, 9, 13, 8, 7, 6,
-    ],
-    dtype=np.int64,
-)  # fmt: skip
+from porenet.kernels._jit import njit, trailing_zeros
 
 
 @njit
 def _lowest_bit(x: np.uint64) -> int:
-    """Index of the least significant set bit of a non-zero word (de Bruijn multiplication)."""
-    isolated = x & (~x + np.uint64(1))
-    return _DEBRUIJN_TABLE[(isolated * _DEBRUIJN) >> np.uint64(58)]
+    """Index of the least significant set bit of a non-zero word."""
+    return np.int64(trailing_zeros(x))
 
 
 @njit
@@ -65,26 +57,54 @@ def queue_insert(words: np.ndarray, offsets: np.ndarray, key: int) -> None:
 
 
 @njit
-def queue_remove(words: np.ndarray, offsets: np.ndarray, key: int) -> None:
-    """Remove ``key`` (no effect if absent)."""
+def _clear(words: np.ndarray, offsets: np.ndarray, key: int) -> int:
+    """Clear ``key``'s bit, and each bit above it whose word empties out; return the first
+    level whose word stays non-empty (the number of levels if the queue is now empty)."""
     levels = offsets.shape[0] - 1
     for level in range(levels):
         w = offsets[level] + (key >> 6)
         after = words[w] & ~(np.uint64(1) << np.uint64(key & 63))
         words[w] = after
         if after != 0:
-            return
+            return level
         key >>= 6
+    return levels
+
+
+@njit
+def _descend(words: np.ndarray, offsets: np.ndarray, level: int, word: int) -> int:
+    """Smallest key below the (non-empty) word ``word`` of level ``level``."""
+    index = word
+    for below in range(level, -1, -1):
+        index = (index << 6) + _lowest_bit(words[offsets[below] + index])
+    return index
+
+
+@njit
+def queue_remove(words: np.ndarray, offsets: np.ndarray, key: int) -> None:
+    """Remove ``key`` (no effect if absent)."""
+    _clear(words, offsets, key)
 
 
 @njit
 def queue_min(words: np.ndarray, offsets: np.ndarray) -> int:
     """Smallest key present, or -1 if the queue is empty."""
     levels = offsets.shape[0] - 1
-    top = words[offsets[levels - 1]]
-    if top == 0:
+    if words[offsets[levels - 1]] == 0:
         return -1
-    index = _lowest_bit(top)
-    for level in range(levels - 2, -1, -1):
-        index = (index << 6) + _lowest_bit(words[offsets[level] + index])
-    return index
+    return _descend(words, offsets, levels - 1, 0)
+
+
+@njit
+def queue_pop_min(words: np.ndarray, offsets: np.ndarray, key: int) -> int:
+    """Remove ``key``, which must be the smallest key present, and return the new smallest key
+    (-1 if the queue is now empty).
+
+    Equivalent to ``queue_remove(words, offsets, key); return queue_min(words, offsets)`` but
+    cheaper: every key left is larger, so the first word on the way up that stays non-empty
+    holds the path to the new minimum.
+    """
+    level = _clear(words, offsets, key)
+    if level == offsets.shape[0] - 1:
+        return -1
+    return _descend(words, offsets, level, key >> (6 * (level + 1)))

@@ -52,3 +52,57 @@ def csr_adjacency(
     np.cumsum(counts, out=indptr[1:])
     neighbours, throats = _fill_csr(tp, indptr)
     return indptr, neighbours, throats
+
+
+@njit
+def max_degree(indptr: np.ndarray) -> int:
+    """Largest number of neighbours of a pore (0 without pores)."""
+    degree = 0
+    for p in range(indptr.shape[0] - 1):
+        degree = max(degree, indptr[p + 1] - indptr[p])
+    return degree
+
+
+@njit
+def rank_pairs(
+    indptr: np.ndarray,
+    neighbours: np.ndarray,
+    throats: np.ndarray,
+    rank: np.ndarray,
+    width: int,
+    pairs: np.ndarray,
+) -> np.ndarray:
+    """The adjacency as interleaved ``(neighbour, throat rank)`` pairs, one cache line per pore.
+
+    Parameters
+    ----------
+    indptr, neighbours, throats : ndarray of int
+        CSR adjacency (:func:`csr_adjacency`).
+    rank : ndarray of int, shape (M,)
+        Rank of each throat.
+    width : int
+        0 for CSR order: pore ``p``'s pairs fill ``[2 indptr[p], 2 indptr[p+1])``. A positive
+        ``width`` at least the largest degree gives a padded (ELLPACK) layout: pore ``p``'s
+        pairs fill ``[2 width p, 2 width (p+1))``, so its row is found without reading
+        ``indptr``; unused slots hold the pair ``(p, 0)`` (a loop onto the pore itself).
+    pairs : ndarray of int, shape (2 * 2M,) for CSR order or (2 * width * N,) padded
+        Output, returned.
+    """
+    n = indptr.shape[0] - 1
+    if width == 0:
+        for e in range(neighbours.shape[0]):
+            pairs[2 * e] = neighbours[e]
+            pairs[2 * e + 1] = rank[throats[e]]
+        return pairs
+    for p in range(n):
+        a = indptr[p]
+        degree = indptr[p + 1] - a
+        j = 2 * width * p
+        for i in range(width):
+            if i < degree:
+                pairs[j + 2 * i] = neighbours[a + i]
+                pairs[j + 2 * i + 1] = rank[throats[a + i]]
+            else:
+                pairs[j + 2 * i] = p
+                pairs[j + 2 * i + 1] = 0
+    return pairs

@@ -3,28 +3,53 @@
 Pure functions on arrays. Pressures are scaled by ``gamma / a`` and apertures by ``a``, so the
 entry pressure of a throat of aperture ``r`` is ``2 / r``.
 
-The whole invasion costs O(M log M) for M throats:
+The whole invasion costs O(M) for M throats with smooth entry-pressure distributions:
 
-* :func:`invade` runs classical invasion percolation *without* trapping (Wilkinson & Willemsen
-  1983) with a priority queue of the frontier throats' ranks (:mod:`porenet.kernels.bitqueue`);
-  each throat enters and leaves the queue at most once.
-* :func:`trapped_steps` then finds which of those steps would have entered a trapped defending
-  cluster, by adding the invaded pores back in reverse order into a union-find structure that
-  also holds the outlet (Sheppard, Knackstedt, Pinczewski & Sahimi 1999; Masson 2016). Removing
-  those steps gives exactly the invasion *with* trapping: an enclosed cluster is surrounded by
-  invaded pores for ever, so invading it never changes the frontier elsewhere.
+* :func:`throat_ranks` orders the throats by entry pressure, ties by throat index, with an
+  O(M) bucket sort (:mod:`porenet.kernels.sorting`). From then on throats are addressed by
+  their rank, so comparing two throats is comparing two integers.
+* The invasion *without* trapping (Wilkinson & Willemsen 1983) keeps, for every undrained pore
+  next to the invader, the smallest rank of the throats joining it to the invader, in a
+  priority queue of ranks (:mod:`porenet.kernels.bitqueue`); each step drains the pore with the
+  smallest key, i.e. the pore behind the frontier throat of smallest entry pressure (Prim's
+  algorithm). Keying pores rather than throats halves the queue operations: a throat whose two
+  pores drain needs no removal.
+* :func:`trapped_steps` then finds which of those steps would have entered a defending cluster
+  cut off from the outlet, by adding the invaded pores back in reverse order and growing the
+  set of pores connected to the outlet (each pore joins it once, so the pass is O(N + M)).
+  Removing those steps gives exactly the invasion *with* trapping: an enclosed cluster is
+  surrounded by invaded pores for ever, so invading it never changes the frontier elsewhere
+  (Sheppard, Knackstedt, Pinczewski & Sahimi 1999; Masson 2016).
 
 Ties in entry pressure are broken by the lower throat index (canonical order).
+
+The invasion loop is bound by memory latency, not arithmetic. It reads the adjacency as
+interleaved (neighbour, rank) pairs (:func:`porenet.kernels.graph.rank_pairs`, padded to one
+fixed-width row per pore on lattices, so a row is found without reading ``indptr``), and it
+prefetches the rows of the two candidates for the next step (the pore behind the next-smallest
+queued rank, and the pores whose key was just lowered) while it works on the current one.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit
-from porenet.kernels.bitqueue import queue_insert, queue_min, queue_new, queue_remove
-from porenet.kernels.sorting import stable_argsort
-from porenet.kernels.unionfind import uf_find, uf_link, uf_union
+from porenet.kernels._jit import njit, prefetch
+from porenet.kernels.bitqueue import (
+    queue_insert,
+    queue_min,
+    queue_new,
+    queue_pop_min,
+    queue_remove,
+)
+from porenet.kernels.graph import max_degree, rank_pairs
+from porenet.kernels.sorting import rank_order
+
+#: Largest padding overhead (padded slots / CSR entries) for which the padded layout is used.
+_MAX_PADDING = 1.25
+
+#: How many steps ahead the reverse trapping pass prefetches adjacency rows.
+_AHEAD = 16
 
 
 def entry_pressures(apertures: np.ndarray) -> np.ndarray:
@@ -48,11 +73,194 @@ def throat_ranks(entry: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     rank : ndarray of int64, shape (M,)
         Rank of each throat (the inverse permutation).
     """
-    m = entry.shape[0]
-    by_rank = stable_argsort(entry)
-    rank = np.empty(m, dtype=np.int64)
-    rank[by_rank] = np.arange(m, dtype=np.int64)
+    m = len(entry)
+    by_rank, rank = np.empty(m, dtype=np.int64), np.empty(m, dtype=np.int64)
+    _ranks_into(entry, by_rank, rank, np.empty(m, dtype=np.uint64))
     return by_rank, rank
+
+
+def _ranks_into(entry: np.ndarray, by_rank: np.ndarray, rank: np.ndarray, keys: np.ndarray) -> None:
+    """Fill ``by_rank`` and ``rank`` (:func:`throat_ranks`); ``keys`` is scratch space."""
+    values = np.ascontiguousarray(entry, dtype=np.float64)
+    if not rank_order(values, by_rank, rank, keys):  # very clustered values: numpy's sort
+        by_rank[:] = np.argsort(values, kind="stable")
+        rank[by_rank] = np.arange(len(values), dtype=rank.dtype)
+
+
+def _arena(*specs: tuple[int, type]) -> list[np.ndarray]:
+    """Work arrays of the given ``(length, dtype)``, carved out of one numpy allocation.
+
+    One allocation instead of a dozen: numpy backs it with huge pages where the system allows
+    (fewer page faults on first touch, fewer TLB misses on random access, unlike arrays
+    allocated inside kernels), and the allocator can keep it for the next call of the same
+    size instead of returning the memory to the system and faulting it in again.
+    """
+    align = 64
+    offsets = []
+    total = 0
+    for length, dtype in specs:
+        offsets.append(total)
+        total += -(-max(length, 1) * np.dtype(dtype).itemsize // align) * align
+    buffer = np.empty(total + align, dtype=np.uint8)
+    shift = -buffer.ctypes.data % align
+    return [
+        buffer[shift + start : shift + start + length * np.dtype(dtype).itemsize].view(dtype)
+        for start, (length, dtype) in zip(offsets, specs, strict=True)
+    ]
+
+
+@njit
+def _row(indptr: np.ndarray, width: int, p: int) -> tuple[int, int]:
+    """Slice ``[start, stop)`` of pore ``p``'s pairs (see :func:`rank_pairs`)."""
+    if width > 0:
+        start = 2 * width * p
+        return start, start + 2 * width
+    return 2 * indptr[p], 2 * indptr[p + 1]
+
+
+@njit
+def invade_pairs(
+    indptr: np.ndarray,
+    width: int,
+    pairs: np.ndarray,
+    m: int,
+    inlets: np.ndarray,
+    outlet: np.ndarray,
+    stop_at_outlet: bool,
+    max_steps: int,
+    until_outlets_drained: bool,
+    order: np.ndarray,
+    via: np.ndarray,
+    key: np.ndarray,
+    target: np.ndarray,
+) -> int:
+    """Invasion percolation without trapping, on throats relabelled by rank.
+
+    Parameters
+    ----------
+    indptr : ndarray of int, shape (N+1,)
+        CSR row pointer of the pore adjacency.
+    width : int
+        Layout of ``pairs``: 0 for CSR order, else the padded row width.
+    pairs : ndarray of int, shape (2 * 2M,) or (2 * width * N,)
+        Interleaved (neighbour, throat rank) pairs (:func:`porenet.kernels.graph.rank_pairs`).
+    m : int
+        Number of throats (ranks are ``0 .. m-1``).
+    inlets : ndarray of int64
+        Pores drained at the start, recorded first in the given order.
+    outlet : ndarray of bool, shape (N,)
+        Pores connected to the outlet; breakthrough is the first drained outlet pore.
+    stop_at_outlet : bool
+        Stop right after the breakthrough step.
+    max_steps : int
+        Stop after this many recorded steps (inlets included).
+    until_outlets_drained : bool
+        Also stop once every outlet pore is drained (with trapping, every later step would
+        enter a cluster cut off from the outlet).
+    order : ndarray of int, shape (N,)
+        Output: drained pores in order, in ``order[:K]``.
+    via : ndarray of int, shape (N,)
+        Output: rank of the throat through which each pore was entered (-1 for inlets).
+    key, target : ndarray of int, shapes (N,) and (M,)
+        Scratch space: each pore's smallest rank to a drained pore (-1 once drained), and the
+        pore that each queued rank leads to.
+
+    Returns
+    -------
+    int
+        K, the number of steps recorded.
+    """
+    n = indptr.shape[0] - 1
+    none = m  # key of an undrained pore with no drained neighbour: above every rank
+    key[:n] = none
+    words, offsets = queue_new(m)
+    check_outlet = stop_at_outlet or until_outlets_drained
+    outlets_left = 0
+    if until_outlets_drained:
+        for p in range(n):
+            outlets_left += outlet[p]
+    k = 0
+    done = False
+    for p in inlets:
+        if k >= max_steps:
+            break
+        if key[p] < 0:
+            continue
+        if key[p] != none:
+            queue_remove(words, offsets, key[p])
+        key[p] = -1
+        order[k] = p
+        via[k] = -1
+        k += 1
+        if outlet[p]:
+            outlets_left -= 1
+            done |= stop_at_outlet
+        start, stop = _row(indptr, width, p)
+        for e in range(start, stop, 2):
+            nb = pairs[e]
+            r = pairs[e + 1]
+            kn = key[nb]
+            if r < kn:
+                if kn != none:
+                    queue_remove(words, offsets, kn)
+                key[nb] = r
+                target[r] = nb
+                queue_insert(words, offsets, r)
+    r = -1
+    if not done and k < max_steps and not (until_outlets_drained and outlets_left == 0):
+        r = queue_min(words, offsets)
+    q = target[r] if r >= 0 else 0
+    while r >= 0:
+        key[q] = -1
+        order[k] = q
+        via[k] = r
+        k += 1
+        if check_outlet and outlet[q]:
+            outlets_left -= 1
+            if stop_at_outlet or outlets_left == 0:
+                break
+        if k >= max_steps:
+            break
+        # Candidate 1 for the next step: the next-smallest queued rank. Fetch its pore's row
+        # now; its load overlaps with the work on q's neighbours.
+        s = queue_pop_min(words, offsets, r)
+        q_s = 0
+        if s >= 0:
+            q_s = target[s]
+            prefetch(pairs, _row(indptr, width, q_s)[0])
+        # Candidate 2: the smallest of the keys lowered now.
+        new_rank = none
+        new_pore = -1
+        s_removed = False
+        start, stop = _row(indptr, width, q)
+        for e in range(start, stop, 2):
+            nb = pairs[e]
+            r2 = pairs[e + 1]
+            kn = key[nb]
+            if r2 < kn:  # nb undrained (key >= 0) and now reached more cheaply through q
+                if kn != none:
+                    queue_remove(words, offsets, kn)
+                    s_removed |= kn == s
+                key[nb] = r2
+                target[r2] = nb
+                queue_insert(words, offsets, r2)
+                prefetch(pairs, _row(indptr, width, nb)[0])
+                if r2 < new_rank:
+                    new_rank = r2
+                    new_pore = nb
+        if s_removed:
+            r = queue_min(words, offsets)
+            if r >= 0:
+                q = target[r]
+        elif s >= 0 and s < new_rank:
+            r = s
+            q = q_s
+        elif new_pore >= 0:
+            r = new_rank
+            q = new_pore
+        else:
+            r = -1
+    return k
 
 
 @njit
@@ -65,82 +273,38 @@ def invade(
     stop_at_outlet: bool,
     max_steps: int,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Invasion percolation without trapping, on throats relabelled by rank.
+    """:func:`invade_pairs` on a CSR adjacency, allocating its own work arrays.
 
-    Throats are addressed by their rank (see :func:`throat_ranks`), so the queue holds the keys
-    themselves. The queue holds exactly the throats between drained and undrained pores (a
-    throat whose second pore drains is removed at once), so the throat it yields always leads
-    to an undrained pore, recorded when the throat was queued.
-
-    Parameters
-    ----------
-    indptr : ndarray of int, shape (N+1,)
-        CSR row pointer of the pore adjacency.
-    neighbours : ndarray of int, shape (2M,)
-        Neighbouring pore of each CSR entry.
-    neighbour_rank : ndarray of int, shape (2M,)
-        Rank of the throat behind each CSR entry (``rank[throats]``).
-    inlets : ndarray of int64
-        Pores drained at the start, recorded first in the given order.
-    outlet : ndarray of bool, shape (N,)
-        Pores connected to the outlet; breakthrough is the first drained outlet pore.
-    stop_at_outlet : bool
-        Stop right after the breakthrough step.
-    max_steps : int
-        Stop after this many recorded steps (inlets included).
-
-    Returns
-    -------
-    order : ndarray of int64, shape (K,)
-        Drained pores in order.
-    via_rank : ndarray of int64, shape (K,)
-        Rank of the throat through which each pore was entered, -1 for inlets.
+    ``neighbours`` holds the neighbouring pore and ``neighbour_rank`` the rank of the throat
+    (``rank[throats]``) of each CSR entry; the other arguments are those of
+    :func:`invade_pairs`. Returns ``(order, via_rank)``: the drained pores in order and the
+    rank of the throat through which each was entered (-1 for inlets).
     """
     n = indptr.shape[0] - 1
     m = neighbour_rank.shape[0] // 2
-    drained = np.zeros(n, dtype=np.bool_)
+    pairs = np.empty(2 * neighbours.shape[0], dtype=np.int64)
+    for e in range(neighbours.shape[0]):
+        pairs[2 * e] = neighbours[e]
+        pairs[2 * e + 1] = neighbour_rank[e]
     order = np.empty(n, dtype=np.int64)
     via = np.empty(n, dtype=np.int64)
-    target = np.empty(max(m, 1), dtype=neighbours.dtype)
-    words, offsets = queue_new(m)
-    k = 0
-    done = False
-    for p in inlets:
-        if drained[p] or k >= max_steps:
-            continue
-        drained[p] = True
-        order[k] = p
-        via[k] = -1
-        k += 1
-        if stop_at_outlet and outlet[p]:
-            done = True
-    for i in range(k):
-        p = order[i]
-        for e in range(indptr[p], indptr[p + 1]):
-            q = neighbours[e]
-            if not drained[q]:
-                r = neighbour_rank[e]
-                target[r] = q
-                queue_insert(words, offsets, r)
-    while k < max_steps and not done:
-        r = queue_min(words, offsets)
-        if r < 0:
-            break
-        q = target[r]
-        drained[q] = True
-        order[k] = q
-        via[k] = r
-        k += 1
-        if stop_at_outlet and outlet[q]:
-            break
-        for e in range(indptr[q], indptr[q + 1]):
-            nb = neighbours[e]
-            r2 = neighbour_rank[e]
-            if drained[nb]:
-                queue_remove(words, offsets, r2)  # now internal to the invader
-            else:
-                target[r2] = nb
-                queue_insert(words, offsets, r2)
+    key = np.empty(n, dtype=np.int64)
+    target = np.empty(max(m, 1), dtype=np.int64)
+    k = invade_pairs(
+        indptr,
+        0,
+        pairs,
+        m,
+        inlets,
+        outlet,
+        stop_at_outlet,
+        max_steps,
+        False,
+        order,
+        via,
+        key,
+        target,
+    )
     return order[:k].copy(), via[:k].copy()
 
 
@@ -179,17 +343,40 @@ def invasion_sequence(
         Throat through which each was entered (-1 for inlets).
     """
     indptr, neighbours, throats = adjacency
-    by_rank, rank = throat_ranks(entry)
-    small = np.int32 if len(entry) < 2**31 - 1 else np.int64
-    limit = indptr.shape[0] - 1 if trapping else max_steps
-    order, via_rank = invade(
-        indptr, neighbours, rank.astype(small)[throats], inlets, outlet, stop_at_outlet, limit
+    n = indptr.shape[0] - 1
+    m = len(entry)
+    index = np.int32 if max(n, m) < 2**31 - 1 else np.int64
+    degree = max_degree(indptr)
+    width = degree if degree * n <= _MAX_PADDING * len(neighbours) else 0
+    work = _arena(
+        (m, index),  # by_rank
+        (m, index),  # rank
+        (m, np.uint64),  # keys (sort)
+        (2 * width * n if width else 2 * len(neighbours), index),  # pairs
+        (n, index),  # order
+        (n, index),  # via
+        (n, index),  # key (invade)
+        (m, index),  # target (invade)
+        *(((n, np.uint8), (n, index), (n, np.bool_)) if trapping else ()),  # state, stack, trapped
     )
+    by_rank, rank, keys, pairs, order, via, key, target = work[:8]
+    _ranks_into(entry, by_rank, rank, keys)
+    rank_pairs(indptr, neighbours, throats, rank, width, pairs)
+    inlets = np.ascontiguousarray(inlets, dtype=np.int64)
+    outlet = np.ascontiguousarray(outlet, dtype=np.bool_)
+    max_steps = max(int(max_steps), 0)
+    limit = n if trapping else max_steps
+    k = invade_pairs(
+        indptr, width, pairs, m, inlets, outlet, stop_at_outlet, limit, trapping, order, via, key,
+        target,
+    )  # fmt: skip
     if trapping:
-        keep = ~trapped_steps(indptr, neighbours, order, outlet, len(inlets))
-        order, via_rank = order[keep][:max_steps], via_rank[keep][:max_steps]
-    via = np.where(via_rank >= 0, by_rank[np.maximum(via_rank, 0)], -1)
-    return order, via
+        state, stack, trapped = work[8:]
+        kept = _drop_trapped(indptr, width, pairs, order, via, k, outlet, state, stack, trapped)
+        k = min(kept, max_steps)
+    throat = np.empty(k, dtype=np.int64)
+    _rank_to_throat(via[:k], by_rank, throat)
+    return order[:k].astype(np.int64), throat
 
 
 @njit
@@ -204,12 +391,14 @@ def trapped_steps(
 
     At step t the defending fluid occupies every pore not in ``order[:t]``. Pore ``order[t]``
     may be invaded under the trapping rule only if its defending cluster at that moment still
-    contains an outlet pore. Adding the pores back in reverse order into a union-find that also
-    holds a virtual outlet node answers this for every step in O(N alpha(N)).
+    contains an outlet pore. Adding the pores back in reverse order answers this for every
+    step: the set of present pores connected to an outlet pore only grows, so a pore added next
+    to it (or an outlet pore) joins it together with its whole cluster (a flood fill), and each
+    pore joins once; a pore added elsewhere is trapped. O(N + M) in all.
 
     Parameters
     ----------
-    indptr, neighbours : ndarray of int64
+    indptr, neighbours : ndarray of int
         CSR adjacency.
     order : ndarray of int64, shape (K,)
         Pores in order of drainage from :func:`invade`.
@@ -224,34 +413,130 @@ def trapped_steps(
         True for steps that the invasion with trapping does not take.
     """
     n = indptr.shape[0] - 1
-    out = n
-    parent = np.arange(n + 1).astype(indptr.dtype)
-    size = np.ones(n + 1, dtype=indptr.dtype)
-    present = np.ones(n, dtype=np.bool_)
-    for i in range(order.shape[0]):
-        present[order[i]] = False
-    for p in range(n):
-        if present[p]:
-            if outlet[p]:
-                uf_union(parent, size, p, out)
-            for e in range(indptr[p], indptr[p + 1]):
-                q = neighbours[e]
-                if q < p and present[q]:
-                    uf_union(parent, size, p, q)
-    trapped = np.zeros(order.shape[0], dtype=np.bool_)
-    for t in range(order.shape[0] - 1, -1, -1):
-        p = order[t]
-        present[p] = True
-        root = p  # p is a singleton: its own root
-        if outlet[p]:
-            root = uf_link(parent, size, root, out)
-        for e in range(indptr[p], indptr[p + 1]):
-            q = neighbours[e]
-            if present[q]:
-                root = uf_link(parent, size, root, q)
-        if t >= n_inlets:
-            trapped[t] = root != uf_find(parent, out)
+    k = order.shape[0]
+    trapped = np.empty(k, dtype=np.bool_)
+    state = np.empty(n, dtype=np.uint8)
+    stack = np.empty(max(n, 1), dtype=indptr.dtype)
+    _trapped(indptr, 0, neighbours, 1, order, k, outlet, n_inlets, state, stack, trapped)
     return trapped
+
+
+@njit
+def _trapped(
+    indptr: np.ndarray,
+    width: int,
+    adjacency: np.ndarray,
+    stride: int,
+    order: np.ndarray,
+    k: int,
+    outlet: np.ndarray,
+    n_inlets: int,
+    state: np.ndarray,
+    stack: np.ndarray,
+    trapped: np.ndarray,
+) -> None:
+    """:func:`trapped_steps` of ``order[:k]`` into ``trapped[:k]``, on either adjacency layout.
+
+    Pore ``p``'s neighbours are ``adjacency[start:stop:stride]``: CSR entries scaled by
+    ``stride`` if ``width == 0``, else ``width`` padded slots from ``stride * width * p`` (a
+    padding slot is ``p`` itself, which is harmless). ``state`` (N) and ``stack`` (N) are
+    scratch space.
+    """
+    n = indptr.shape[0] - 1
+    absent, present, connected = 0, 1, 2
+    state[:n] = present
+    for t in range(k):
+        state[order[t]] = absent
+    for p in range(n):  # the pores never drained
+        if state[p] == present and outlet[p]:
+            state[p] = connected
+            _flood(indptr, width, adjacency, stride, state, stack, p)
+    for t in range(k - 1, -1, -1):
+        p = order[t]
+        if t >= _AHEAD:  # the pores to come are known: start loading their rows now
+            prefetch(adjacency, _span(indptr, width, stride, order[t - _AHEAD])[0])
+        reach = outlet[p]
+        if not reach:
+            start, count = _span(indptr, width, stride, p)
+            for i in range(count):
+                if state[adjacency[start + stride * i]] == connected:
+                    reach = True
+                    break
+        trapped[t] = (not reach) and t >= n_inlets
+        if not reach:
+            state[p] = present
+            continue
+        state[p] = connected  # and so is its cluster
+        _flood(indptr, width, adjacency, stride, state, stack, p)
+
+
+@njit
+def _span(indptr: np.ndarray, width: int, stride: int, p: int) -> tuple[int, int]:
+    """First entry and number of entries of pore ``p`` in an adjacency of the given layout."""
+    if width > 0:
+        return stride * width * p, width
+    return stride * indptr[p], indptr[p + 1] - indptr[p]
+
+
+@njit
+def _flood(
+    indptr: np.ndarray,
+    width: int,
+    adjacency: np.ndarray,
+    stride: int,
+    state: np.ndarray,
+    stack: np.ndarray,
+    p: int,
+) -> None:
+    """Mark (state 2) every pore of state 1 connected to ``p`` through pores of state 1."""
+    stack[0] = p
+    top = 1
+    while top > 0:
+        top -= 1
+        x = stack[top]
+        start, count = _span(indptr, width, stride, x)
+        for i in range(count):
+            y = adjacency[start + stride * i]
+            if state[y] == 1:
+                state[y] = 2
+                stack[top] = y
+                top += 1
+
+
+@njit
+def _rank_to_throat(via: np.ndarray, by_rank: np.ndarray, throat: np.ndarray) -> None:
+    """``throat[k] = by_rank[via[k]]``, or -1 where ``via[k]`` is -1."""
+    for k in range(via.shape[0]):
+        throat[k] = by_rank[via[k]] if via[k] >= 0 else -1
+
+
+@njit
+def _drop_trapped(
+    indptr: np.ndarray,
+    width: int,
+    pairs: np.ndarray,
+    order: np.ndarray,
+    via: np.ndarray,
+    k: int,
+    outlet: np.ndarray,
+    state: np.ndarray,
+    stack: np.ndarray,
+    trapped: np.ndarray,
+) -> int:
+    """Move the steps of ``order[:k], via[:k]`` that are not trapped (:func:`trapped_steps`)
+    to the front, in order; return their number. The leading steps with ``via == -1`` are the
+    inlets. ``state``, ``stack`` and ``trapped`` are scratch space (N, N, K)."""
+    n_inlets = 0
+    while n_inlets < k and via[n_inlets] < 0:
+        n_inlets += 1
+    _trapped(indptr, width, pairs, 2, order, k, outlet, n_inlets, state, stack, trapped)
+    kept = 0
+    for t in range(k):
+        if not trapped[t]:
+            order[kept] = order[t]
+            via[kept] = via[t]
+            kept += 1
+    return kept
 
 
 @njit
@@ -260,9 +545,11 @@ def enclosed_defender(
 ) -> np.ndarray:
     """Defending pores whose cluster contains no outlet pore.
 
+    A flood fill of the defending pores from the undrained outlet pores, O(N + M).
+
     Parameters
     ----------
-    indptr, neighbours : ndarray of int64
+    indptr, neighbours : ndarray of int
         CSR adjacency.
     drained : ndarray of bool, shape (N,)
         Pores occupied by the invader.
@@ -274,21 +561,16 @@ def enclosed_defender(
     ndarray of bool, shape (N,)
     """
     n = drained.shape[0]
-    out = n
-    parent = np.arange(n + 1, dtype=np.int64)
-    size = np.ones(n + 1, dtype=np.int64)
-    for p in range(n):
-        if drained[p]:
-            continue
-        if outlet[p]:
-            uf_union(parent, size, p, out)
-        for e in range(indptr[p], indptr[p + 1]):
-            q = neighbours[e]
-            if q < p and not drained[q]:
-                uf_union(parent, size, p, q)
-    root_out = uf_find(parent, out)
-    result = np.zeros(n, dtype=np.bool_)
+    state = np.zeros(n, dtype=np.uint8)  # 0 drained, 1 defending, 2 defending and reached
     for p in range(n):
         if not drained[p]:
-            result[p] = uf_find(parent, p) != root_out
+            state[p] = 1
+    stack = np.empty(max(n, 1), dtype=indptr.dtype)
+    for p in range(n):
+        if state[p] == 1 and outlet[p]:
+            state[p] = 2
+            _flood(indptr, 0, neighbours, 1, state, stack, p)
+    result = np.zeros(n, dtype=np.bool_)
+    for p in range(n):
+        result[p] = state[p] == 1
     return result

@@ -157,8 +157,12 @@ def main() -> None:
     lat = SquareLattice(SquareLatticeConfig(n=n, disorder=0.3), np.random.default_rng(0))
     t_ref, _ = median_time(
         lambda: reference_invasion(
-            lat.throat_pores, 2.0 / lat.initial_apertures, lat.inlet_pores("centre"),
-            lat.boundary_pores, trapping=False, stop_at_outlet=False,
+            lat.throat_pores,
+            2.0 / lat.initial_apertures,
+            lat.inlet_pores("centre"),
+            lat.boundary_pores,
+            trapping=False,
+            stop_at_outlet=False,
         ),
         1,
     )

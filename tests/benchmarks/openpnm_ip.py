@@ -38,6 +38,7 @@ What OpenPNM 3.6.4 actually does (read from
   Cubic whose outer ring pores are the outlets and whose ring throats have
   infinite entry pressure, so the ring is only invaded after every real pore.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -127,8 +128,16 @@ def _build(n: int, pe_ours: np.ndarray, outlet_ring: bool):
     inlet = ours2op[(n // 2) * n + n // 2]
     # OpenPNM refuses a pore that is both inlet and outlet (only happens for n <= 2).
     outlets = outlets[outlets != inlet]
-    return dict(op=op, pn=pn, phase=phase, op2ours=op2ours, ours2op=ours2op,
-                inlet=inlet, outlets=outlets, real=real)
+    return dict(
+        op=op,
+        pn=pn,
+        phase=phase,
+        op2ours=op2ours,
+        ours2op=ours2op,
+        inlet=inlet,
+        outlets=outlets,
+        real=real,
+    )
 
 
 def _run(ctx, trapping: bool):
@@ -216,7 +225,7 @@ def openpnm_invasion(
         _close(ctx)
 
     ours2op = ctx["ours2op"]
-    seq = seq_op[ours2op]          # indexed by our pore id
+    seq = seq_op[ours2op]  # indexed by our pore id
     pres = pres_op[ours2op]
     trapped = trapped_op[ours2op] if trapping else np.zeros(n * n, dtype=bool)
     assert (seq >= 0).all(), "OpenPNM left real pores uninvaded"
@@ -242,8 +251,11 @@ def _main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-n", type=int, default=400)
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--outlet-ring", action="store_true",
-                    help="emulate porenet's edge-cluster trapping rule exactly")
+    ap.add_argument(
+        "--outlet-ring",
+        action="store_true",
+        help="emulate porenet's edge-cluster trapping rule exactly",
+    )
     args = ap.parse_args()
     if not openpnm_available():
         raise SystemExit("openpnm is not importable")
@@ -255,11 +267,16 @@ def _main() -> None:
         for _ in range(args.repeats):
             res = openpnm_invasion(apertures, n, trapping, outlet_ring=args.outlet_ring)
             times.append(res["seconds_run"])
-        print(f"openpnm {res['openpnm_version']}  n={n}  trapping={trapping}  "
-              f"outlet_ring={args.outlet_ring}")
-        print(f"  warm-up (JIT) {res['seconds_warmup']:.3f} s; run+trapping median "
-              f"{statistics.median(times):.3f} s  (runs: "
-              + ", ".join(f"{t:.3f}" for t in times) + ")")
+        print(
+            f"openpnm {res['openpnm_version']}  n={n}  trapping={trapping}  "
+            f"outlet_ring={args.outlet_ring}"
+        )
+        print(
+            f"  warm-up (JIT) {res['seconds_warmup']:.3f} s; run+trapping median "
+            f"{statistics.median(times):.3f} s  (runs: "
+            + ", ".join(f"{t:.3f}" for t in times)
+            + ")"
+        )
         print(f"  invaded {len(res['order'])} / {n * n}, trapped {int(res['trapped'].sum())}")
         print(f"  first 20: {res['order'][:20].tolist()}")
 

@@ -48,6 +48,15 @@ def _topology(n: int) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndar
     return throats, adjacency
 
 
+@lru_cache(maxsize=4)
+def _pore_coords(n: int) -> np.ndarray:
+    """Read-only pore centres (x = 2j + 1, y = 2i + 1, in units of a) of an n x n lattice."""
+    i, j = np.divmod(np.arange(n * n), n)
+    coords = np.stack([2.0 * j + 1.0, 2.0 * i + 1.0], axis=1)
+    coords.setflags(write=False)
+    return coords
+
+
 def load_apertures_file(path: Path, n: int) -> np.ndarray:
     """Read and check an ``apertures`` array (m) from an .npz file for an n x n lattice."""
     expected = 2 * n * (n - 1)
@@ -177,10 +186,9 @@ class SquareLattice(Lattice):
     def adjacency(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         return _topology(self.n)[1]
 
-    @cached_property
+    @property
     def pore_coords(self) -> np.ndarray:
-        i, j = np.divmod(np.arange(self.n_pores), self.n)
-        return np.stack([2.0 * j + 1.0, 2.0 * i + 1.0], axis=1)
+        return _pore_coords(self.n)
 
     @cached_property
     def boundary_pores(self) -> np.ndarray:
