@@ -162,7 +162,8 @@ class Simulation:
 
     def _check_finite(self) -> None:
         state = self.state
-        for name in ("pressure", "apertures"):
+        # Without a solid model the apertures are the lattice's, checked when it was built.
+        for name in ("pressure",) if self.solid is None else ("pressure", "apertures"):
             values = getattr(state, name)
             if values is not None and not np.all(np.isfinite(values)):
                 bad = int(np.flatnonzero(~np.isfinite(values))[0])

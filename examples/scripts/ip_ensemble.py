@@ -54,11 +54,15 @@ def main() -> None:
     print(f"n = {n}, λ = {args.disorder}, {args.seeds} seeds, at breakthrough:")
     for key, values in rows.items():
         v = np.asarray(values)
-        print(f"  {key:<16} mean {v.mean():.4f}  sd {v.std(ddof=1):.4f}  "
-              f"sem {v.std(ddof=1) / np.sqrt(v.size):.4f}")
+        print(
+            f"  {key:<16} mean {v.mean():.4f}  sd {v.std(ddof=1):.4f}  "
+            f"sem {v.std(ddof=1) / np.sqrt(v.size):.4f}"
+        )
     if pnm:
-        print(f"  OpenPNM gives the identical order (both trapping settings) for "
-              f"{identical} / {args.seeds} seeds")
+        print(
+            f"  OpenPNM gives the identical order (both trapping settings) for "
+            f"{identical} / {args.seeds} seeds"
+        )
     else:
         print("  OpenPNM not installed: no comparison")
 

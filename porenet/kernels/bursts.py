@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from porenet.kernels._jit import njit
+
 
 def burst_sizes(pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Bursts of a quasi-static pressure signal: runs between successive record highs.
@@ -20,10 +22,23 @@ def burst_sizes(pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     size : ndarray of int64
         Number of steps in each burst (the record step included).
     """
-    p = np.asarray(pressure, dtype=np.float64)
-    if p.size == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    prev_max = np.concatenate([[-np.inf], np.maximum.accumulate(p)[:-1]])
-    start = np.flatnonzero(p > prev_max).astype(np.int64)
+    p = np.ascontiguousarray(pressure, dtype=np.float64)
+    start = np.empty(p.size, dtype=np.int64)
+    count = _record_steps(p, start)
+    start = start[:count].copy()
     size = np.diff(np.append(start, p.size)).astype(np.int64)
     return start, size
+
+
+@njit
+def _record_steps(p: np.ndarray, start: np.ndarray) -> int:
+    """Write the steps where ``p`` exceeds every earlier value into ``start``; return their
+    number (a NaN never opens a burst)."""
+    count = 0
+    high = -np.inf
+    for i in range(p.shape[0]):
+        if p[i] > high:
+            high = p[i]
+            start[count] = i
+            count += 1
+    return count

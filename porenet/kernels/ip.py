@@ -63,6 +63,15 @@ def entry_pressures(apertures: np.ndarray) -> np.ndarray:
     return 2.0 / np.asarray(apertures, dtype=np.float64)
 
 
+@njit
+def step_pressures(entry: np.ndarray, via: np.ndarray) -> np.ndarray:
+    """Entry pressure of the throat of each step (``entry[via]``), 0 where ``via`` is -1."""
+    out = np.empty(via.shape[0], dtype=np.float64)
+    for k in range(via.shape[0]):
+        out[k] = entry[via[k]] if via[k] >= 0 else 0.0
+    return out
+
+
 def throat_ranks(entry: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Order throats by ascending entry pressure, ties by throat index.
 

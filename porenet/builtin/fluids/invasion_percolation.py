@@ -64,7 +64,7 @@ class InvasionPercolation(FluidModel):
         )
         self._order = order
         self._via = via
-        self._pressure = np.where(via >= 0, self._entry[np.maximum(via, 0)], 0.0)
+        self._pressure = ip.step_pressures(self._entry, via)
         self._cursor = 0
 
     def advance(self, state: State, max_events: int) -> int:
@@ -100,7 +100,7 @@ class InvasionPercolation(FluidModel):
         p = state.record.pressure[: state.record.size]
         steps = p[state.record.throat[: state.record.size] >= 0]
         p_max = float(steps.max()) if steps.size else 0.0
-        quantile = float(np.mean(self._entry <= p_max)) if steps.size else 0.0
+        quantile = np.count_nonzero(self._entry <= p_max) / self._entry.size if steps.size else 0.0
         scale = self.context.scales.pressure
         return {
             "max_entry_pressure": p_max * scale,
