@@ -1,4 +1,8 @@
-"""What a run produces: :class:`RunData` (SI arrays, as in the run file) and :class:`RunResult`."""
+"""What a run produces: :class:`RunData` (SI arrays, as in the run file) and :class:`RunResult`.
+
+Dynamic fluid models add time series (named as in :data:`TIMESERIES_UNITS`) and pressure
+:class:`Snapshot` objects to the :class:`RunData`.
+"""
 
 from __future__ import annotations
 
@@ -14,6 +18,58 @@ if TYPE_CHECKING:  # pragma: no cover
     from porenet.core.interfaces import Lattice
     from porenet.core.plan import Plan
     from porenet.core.state import State
+
+
+#: Unit of each known time series of :attr:`RunData.timeseries` (SI; "-" for dimensionless).
+#: Series with other names are allowed; their unit is ``""`` (unknown).
+TIMESERIES_UNITS: dict[str, str] = {
+    # time since the start of injection
+    "time": "s",
+    # pressure of the invading fluid at the inlet
+    "invading_pressure": "Pa",
+    # volume delivered by the pump
+    "injected": "m^3",
+    # defender volume displaced by advancing menisci, i.e. volume of the invader in the medium
+    "drained": "m^3",
+    # volume held by compressibility: injection reservoir plus defending fluid
+    "stored": "m^3",
+    # defending fluid through the outlet
+    "outflow": "m^3",
+    # compressibility storage discarded when a pore drains
+    "released": "m^3",
+    # measured capillary number Ca = mu v / gamma so far
+    "capillary_number": "-",
+    # number of drained pores
+    "n_drained": "-",
+}
+
+
+@dataclass(frozen=True, eq=False)
+class Snapshot:
+    """The pore pressure field at one instant of a dynamic run, in SI units.
+
+    Equality is identity (the fields hold arrays); compare fields to compare snapshots.
+
+    Attributes
+    ----------
+    time : float
+        Time of the snapshot (s).
+    saturation : float
+        Drained fraction of the pores (-).
+    invading_pressure : float
+        Pressure of the invading fluid at the inlet (Pa).
+    pressure : ndarray (N,) float
+        Pore pressure (Pa): defender pressure in undrained pores, invader pressure in drained
+        pores. Flat (``n_pores``), like the other pore arrays of :class:`RunData`.
+    drained : ndarray (N,) bool
+        Invader occupancy at ``time``.
+    """
+
+    time: float
+    saturation: float
+    invading_pressure: float
+    pressure: np.ndarray
+    drained: np.ndarray
 
 
 @dataclass
@@ -52,6 +108,11 @@ class RunData:
         Apertures at the end, for deformable media.
     burst_sizes : ndarray (B,) int64
         Steps in each burst (runs between record highs of the entry pressure), in order.
+    timeseries : dict of str to ndarray (T,) float
+        Time series of dynamic models, 1-D arrays of equal length in SI units, named and
+        with units as in :data:`TIMESERIES_UNITS`; empty for static models.
+    snapshots : list of Snapshot
+        Pressure snapshots of dynamic models, in time order; empty for static models.
     """
 
     porenet_version: str
@@ -71,6 +132,8 @@ class RunData:
     invasion_time: np.ndarray | None = None
     final_apertures: np.ndarray | None = None
     burst_sizes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    timeseries: dict[str, np.ndarray] = field(default_factory=dict)
+    snapshots: list[Snapshot] = field(default_factory=list)
 
     @property
     def n_pores(self) -> int:

@@ -125,7 +125,7 @@ class Simulation:
         if stop.at == "breakthrough" and state.breakthrough:
             return "breakthrough"
         if self.fluid.exhausted:
-            return "complete"
+            return self.fluid.stop_reason or "complete"
         return None
 
     def run(self) -> RunResult:
@@ -212,7 +212,35 @@ class Simulation:
             invasion_time=None if sc.time is None else rec.time[:k] * sc.time,
             burst_sizes=bursts,
             final_apertures=(state.apertures * sc.length if self.solid is not None else None),
+            **self._outputs(),
         )
+
+    def _outputs(self) -> dict[str, Any]:
+        """The fluid model's time series and snapshots (:meth:`FluidModel.outputs`) in SI."""
+        from porenet.result import Snapshot
+
+        sc = self.scales
+        raw = self.fluid.outputs(self.state)
+        unit = {"time": sc.time or 1.0, "invading_pressure": sc.pressure}
+        for name in ("injected", "drained", "stored", "outflow", "released"):
+            unit[name] = sc.volume
+        out: dict[str, Any] = {}
+        if "timeseries" in raw:
+            out["timeseries"] = {
+                k: np.asarray(v) * unit.get(k, 1.0) for k, v in raw["timeseries"].items()
+            }
+        if "snapshots" in raw:
+            out["snapshots"] = [
+                Snapshot(
+                    time=snap["time"] * unit["time"],
+                    saturation=snap["saturation"],
+                    invading_pressure=snap["invading_pressure"] * sc.pressure,
+                    pressure=snap["pressure"] * sc.pressure,
+                    drained=snap["drained"],
+                )
+                for snap in raw["snapshots"]
+            ]
+        return out
 
 
 def run(

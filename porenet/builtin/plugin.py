@@ -6,6 +6,7 @@ from porenet.builtin.fluids.invasion_percolation import (
     InvasionPercolation,
     InvasionPercolationConfig,
 )
+from porenet.builtin.fluids.viscous import ViscousConfig
 from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
 from porenet.builtin.observers.progress import Progress, ProgressConfig
 from porenet.builtin.solids.rigid import RigidConfig
@@ -20,6 +21,7 @@ def porenet_register_lattices(register: Register) -> None:
 @hookimpl
 def porenet_register_fluid_models(register: Register) -> None:
     register(InvasionPercolationConfig, InvasionPercolation)
+    register(ViscousConfig, "porenet.builtin.fluids.viscous:ViscousDrainage")
 
 
 @hookimpl

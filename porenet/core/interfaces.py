@@ -111,6 +111,24 @@ class Lattice(ABC):
         """(n_pores,) float: pore volumes in units of ``a**3`` (default 1)."""
         return np.ones(self.n_pores)
 
+    @property
+    def throat_factors(self) -> tuple[float, float]:
+        """``(c_A, c_k)``: throat area ``A = c_A r**2`` and permeability ``k = c_k r**2``
+        (MODEL.md section 1; default 1, 1)."""
+        return 1.0, 1.0
+
+    @property
+    def mean_aperture(self) -> float:
+        """Mean aperture ``r_mean / a``; also the aperture of the half throats that join the
+        boundary pores to the outlet reservoir (default: mean of the initial apertures)."""
+        return float(np.mean(self.initial_apertures))
+
+    def outlet_links(self, at: str) -> np.ndarray:
+        """(n_pores,) float: number of half throats (length ``a``) joining each pore to the
+        outlet reservoir, for an injection site (see :meth:`outlet_mask`). Default: one per
+        outlet pore."""
+        return self.outlet_mask(at).astype(np.float64)
+
     # -- solid network (deformable media) ---------------------------------------------------
     @property
     def spring_particles(self) -> np.ndarray:
@@ -197,11 +215,24 @@ class FluidModel(ABC):
     def exhausted(self) -> bool:
         """True when nothing more can be invaded."""
 
+    @property
+    def stop_reason(self) -> str | None:
+        """Why the model is :attr:`exhausted` (e.g. ``"max_time"``); None means "complete"."""
+        return None
+
     def finalize(self, state: State) -> None:  # noqa: B027 - optional hook
         """Called once after the loop (e.g. to settle the final trapped set)."""
 
     def summary(self, state: State) -> dict[str, Any]:
         """Scalar results (SI) for the run file's ``/summary`` group."""
+        return {}
+
+    def outputs(self, state: State) -> dict[str, Any]:
+        """Further records, in scaled units, after :meth:`finalize`: optional keys
+        ``"timeseries"`` (dict of 1-D arrays named as in
+        :data:`porenet.result.TIMESERIES_UNITS`) and ``"snapshots"`` (list of dicts with
+        ``time``, ``saturation``, ``invading_pressure``, ``pressure``, ``drained``). The
+        Simulation converts them to SI."""
         return {}
 
 

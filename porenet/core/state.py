@@ -102,6 +102,10 @@ class State:
         True once a drained pore touches the outlet.
     record : DrainageRecord
         The log of drainage events.
+    meniscus_length : ndarray of float64, shape (n_throats,) or None
+        Remaining length / a of the meniscus in each throat between a drained and an
+        undrained pore (2 when pinned, 0 when it completes); meaningful on the frontier only.
+        ``None`` for quasi-static models.
     spring_compression, spring_force, displacement : ndarray or None
         Solid fields, written by a deformable SolidModel; ``None`` for a rigid medium.
     """
@@ -116,6 +120,7 @@ class State:
     step: int = 0
     n_drained: int = 0
     breakthrough: bool = False
+    meniscus_length: np.ndarray | None = None
     spring_compression: np.ndarray | None = None
     spring_force: np.ndarray | None = None
     displacement: np.ndarray | None = None

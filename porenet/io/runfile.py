@@ -12,9 +12,11 @@ from typing import Any
 import numpy as np
 
 from porenet.core.errors import RunFileError
-from porenet.result import RunData
+from porenet.result import TIMESERIES_UNITS, RunData, Snapshot
 
-FORMAT_VERSION = 1
+#: Layout version written to the ``format_version`` attribute. 2 added ``/timeseries`` and
+#: ``/snapshots``; the reader still reads version 1 and refuses versions it does not know.
+FORMAT_VERSION = 2
 
 
 def _grid(data: RunData, values: np.ndarray) -> np.ndarray:
@@ -27,15 +29,51 @@ def _attr(value: Any) -> Any:
     return value
 
 
+def _check_outputs(path: Path, data: RunData) -> None:
+    """Refuse time series and snapshots the layout cannot hold (before anything is written)."""
+    first: tuple[str, int] | None = None
+    for name, values in data.timeseries.items():
+        if not isinstance(name, str) or not name or "/" in name or name == ".":
+            raise RunFileError(f"{path}: time series name {name!r} is not a valid dataset name")
+        shape = np.shape(values)
+        if len(shape) != 1:
+            raise RunFileError(f"{path}: time series {name!r} is not 1-D (shape {shape})")
+        if first is None:
+            first = (name, shape[0])
+        elif shape[0] != first[1]:
+            raise RunFileError(
+                f"{path}: time series {name!r} has length {shape[0]}, "
+                f"but {first[0]!r} has length {first[1]}; all series must have equal length"
+            )
+    n = data.n_pores
+    for i, snap in enumerate(data.snapshots):
+        for field_name in ("pressure", "drained"):
+            shape = np.shape(getattr(snap, field_name))
+            if shape != (n,):
+                raise RunFileError(
+                    f"{path}: snapshot {i} (t = {snap.time:g} s) {field_name} has shape "
+                    f"{shape}, expected ({n},)"
+                )
+
+
 def write_run(path: str | Path, data: RunData) -> Path:
     """Write ``data`` to ``path`` atomically and return the path.
 
     The file is written under a temporary name in the same directory and renamed into place
     only when complete, so a crash never leaves a half-written file under the final name.
+    Snapshots are stored in time order.
+
+    Raises
+    ------
+    RunFileError
+        If the directory does not exist, the file cannot be written, or the time series
+        (not 1-D, unequal lengths) or snapshots (not one value per pore) do not fit the
+        layout; nothing is written in the last case.
     """
     import h5py
 
     path = Path(path)
+    _check_outputs(path, data)
     directory = path.resolve().parent
     if not directory.is_dir():
         raise RunFileError(f"{path}: directory {directory} does not exist")
@@ -73,6 +111,22 @@ def write_run(path: str | Path, data: RunData) -> Path:
             for key, value in data.summary.items():
                 if value is not None:
                     summ.attrs[key] = _attr(value)
+            if data.timeseries:
+                ts = f.create_group("timeseries", track_order=True)
+                for name, values in data.timeseries.items():
+                    ds = ts.create_dataset(name, data=np.asarray(values), compression="gzip")
+                    ds.attrs["units"] = TIMESERIES_UNITS.get(name, "")
+            if data.snapshots:
+                snaps = f.create_group("snapshots")
+                ordered = sorted(data.snapshots, key=lambda snap: snap.time)  # stable
+                for i, snap in enumerate(ordered):
+                    g = snaps.create_group(f"{i:06d}")
+                    g.attrs["time"] = float(snap.time)
+                    g.attrs["saturation"] = float(snap.saturation)
+                    g.attrs["invading_pressure"] = float(snap.invading_pressure)
+                    for key in ("pressure", "drained"):
+                        values = _grid(data, getattr(snap, key))
+                        g.create_dataset(key, data=values, compression="gzip")
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
@@ -87,7 +141,9 @@ def write_run(path: str | Path, data: RunData) -> Path:
 
 
 def read_run(path: str | Path) -> RunData:
-    """Read a run file written by :func:`write_run`.
+    """Read a run file written by :func:`write_run` (format version 1 or 2).
+
+    Version 1 files have no time series or snapshots: those fields come back empty.
 
     Raises
     ------
@@ -121,6 +177,23 @@ def read_run(path: str | Path) -> RunData:
             return np.asarray(f[name][()]).ravel() if name in f else None
 
         summary = {k: _attr(v) for k, v in f["summary"].attrs.items()}
+        timeseries: dict[str, np.ndarray] = {}
+        if "timeseries" in f:
+            timeseries = {name: np.asarray(ds[()]) for name, ds in f["timeseries"].items()}
+        snapshots: list[Snapshot] = []
+        if "snapshots" in f:
+            snaps = f["snapshots"]
+            for name in sorted(snaps, key=int):  # zero-padded index, in time order
+                g = snaps[name]
+                snapshots.append(
+                    Snapshot(
+                        time=float(g.attrs["time"]),
+                        saturation=float(g.attrs["saturation"]),
+                        invading_pressure=float(g.attrs["invading_pressure"]),
+                        pressure=np.asarray(g["pressure"][()]).ravel(),
+                        drained=np.asarray(g["drained"][()]).ravel(),
+                    )
+                )
         return RunData(
             porenet_version=str(f.attrs["porenet_version"]),
             scene=json.loads(f.attrs["scene"]),
@@ -139,4 +212,6 @@ def read_run(path: str | Path) -> RunData:
             invasion_time=flat("invasion/time"),
             burst_sizes=f["invasion/burst_sizes"][()],
             summary=summary,
+            timeseries=timeseries,
+            snapshots=snapshots,
         )

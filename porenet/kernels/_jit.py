@@ -31,11 +31,22 @@ except ImportError:  # pragma: no cover - numba is a core dependency
     log.warning("numba is not importable: porenet's kernels run as plain Python (slow)")
 
 
-def njit(func: Callable[..., Any]) -> Callable[..., Any]:
-    """``numba.njit(cache=True, nogil=True)`` when numba is available, else identity."""
+def njit(func: Callable[..., Any] | None = None, *, helper: bool = False) -> Any:
+    """``numba.njit(cache=True, nogil=True)`` when numba is available, else identity.
+
+    ``@njit(helper=True)`` marks a small helper that takes arrays but allocates nothing: it is
+    compiled without numba's reference counting (``_nrt=False``). A helper that writes into
+    its array arguments is otherwise not optimised into its caller, and every call from a loop
+    pays atomic reference-count updates on each array (measured: 16 ns per call against 0.2 ns
+    inlined, for a 3-array helper in a 10^4-pore loop).
+    """
+    if func is None:
+        return lambda f: njit(f, helper=helper)
     if not HAVE_NUMBA:
         return func
-    return numba.njit(cache=True, nogil=True)(func)  # type: ignore[no-any-return]
+    if helper:
+        return numba.njit(cache=True, nogil=True, _nrt=False)(func)
+    return numba.njit(cache=True, nogil=True)(func)
 
 
 def _prefetch_py(array: np.ndarray, index: int) -> None:

@@ -43,7 +43,7 @@ def queue_new(m: int) -> tuple[np.ndarray, np.ndarray]:
     return np.zeros(offsets[-1], dtype=np.uint64), offsets
 
 
-@njit
+@njit(helper=True)
 def queue_insert(words: np.ndarray, offsets: np.ndarray, key: int) -> None:
     """Add ``key`` (no effect if present)."""
     levels = offsets.shape[0] - 1
@@ -56,7 +56,7 @@ def queue_insert(words: np.ndarray, offsets: np.ndarray, key: int) -> None:
         key >>= 6
 
 
-@njit
+@njit(helper=True)
 def _clear(words: np.ndarray, offsets: np.ndarray, key: int) -> int:
     """Clear ``key``'s bit, and each bit above it whose word empties out; return the first
     level whose word stays non-empty (the number of levels if the queue is now empty)."""
@@ -71,7 +71,7 @@ def _clear(words: np.ndarray, offsets: np.ndarray, key: int) -> int:
     return levels
 
 
-@njit
+@njit(helper=True)
 def _descend(words: np.ndarray, offsets: np.ndarray, level: int, word: int) -> int:
     """Smallest key below the (non-empty) word ``word`` of level ``level``."""
     index = word
@@ -80,13 +80,13 @@ def _descend(words: np.ndarray, offsets: np.ndarray, level: int, word: int) -> i
     return index
 
 
-@njit
+@njit(helper=True)
 def queue_remove(words: np.ndarray, offsets: np.ndarray, key: int) -> None:
     """Remove ``key`` (no effect if absent)."""
     _clear(words, offsets, key)
 
 
-@njit
+@njit(helper=True)
 def queue_min(words: np.ndarray, offsets: np.ndarray) -> int:
     """Smallest key present, or -1 if the queue is empty."""
     levels = offsets.shape[0] - 1
@@ -95,7 +95,7 @@ def queue_min(words: np.ndarray, offsets: np.ndarray) -> int:
     return _descend(words, offsets, levels - 1, 0)
 
 
-@njit
+@njit(helper=True)
 def queue_pop_min(words: np.ndarray, offsets: np.ndarray, key: int) -> int:
     """Remove ``key``, which must be the smallest key present, and return the new smallest key
     (-1 if the queue is now empty).

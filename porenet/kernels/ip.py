@@ -118,7 +118,7 @@ def _arena(*specs: tuple[int, type]) -> list[np.ndarray]:
     ]
 
 
-@njit
+@njit(helper=True)
 def _row(indptr: np.ndarray, width: int, p: int) -> tuple[int, int]:
     """Slice ``[start, stop)`` of pore ``p``'s pairs (see :func:`rank_pairs`)."""
     if width > 0:
@@ -479,7 +479,7 @@ def _trapped(
         _flood(indptr, width, adjacency, stride, state, stack, p)
 
 
-@njit
+@njit(helper=True)
 def _span(indptr: np.ndarray, width: int, stride: int, p: int) -> tuple[int, int]:
     """First entry and number of entries of pore ``p`` in an adjacency of the given layout."""
     if width > 0:
@@ -487,7 +487,7 @@ def _span(indptr: np.ndarray, width: int, stride: int, p: int) -> tuple[int, int
     return stride * indptr[p], indptr[p + 1] - indptr[p]
 
 
-@njit
+@njit(helper=True)
 def _flood(
     indptr: np.ndarray,
     width: int,

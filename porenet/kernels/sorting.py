@@ -66,7 +66,7 @@ def _shift_for(span: np.uint64, buckets: int) -> np.uint64:
     return shift
 
 
-@njit
+@njit(helper=True)
 def _insertion_sort(keys: np.ndarray, index: np.ndarray, c: int, budget: int, check: bool) -> int:
     """Stable insertion sort of ``keys[:c]`` (and ``index[:c]`` alike) that gives up once it
     has moved more than ``budget`` elements; returns the budget left (negative if exceeded).

@@ -208,6 +208,26 @@ class SquareLattice(Lattice):
     def pore_volumes(self) -> np.ndarray:
         return np.full(self.n_pores, float(self.config.volume_factor))
 
+    @property
+    def throat_factors(self) -> tuple[float, float]:
+        return float(self.config.area_factor), float(self.config.permeability_factor)
+
+    @property
+    def mean_aperture(self) -> float:
+        return self.mean_aperture_scaled
+
+    def outlet_links(self, at: str) -> np.ndarray:
+        """One half throat per outer side a pore touches (two for the corners) when the outlet
+        is the whole edge; one per pore of the right column for ``left-edge``."""
+        if at != "centre":
+            return super().outlet_links(at)
+        links = np.zeros((self.n, self.n))
+        links[0, :] += 1
+        links[-1, :] += 1
+        links[:, 0] += 1
+        links[:, -1] += 1
+        return links.ravel()
+
     def inlet_pores(self, at: str) -> np.ndarray:
         if at == "centre":
             return np.array([(self.n // 2) * self.n + self.n // 2], dtype=np.int64)

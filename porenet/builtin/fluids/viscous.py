@@ -1,0 +1,398 @@
+"""The paper's dynamic drainage model (MODEL.md section 4) as a FluidModel, kind ``viscous``."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import Field, model_validator
+
+from porenet.config.base import ModelConfig
+from porenet.core.errors import NumericalError
+from porenet.core.interfaces import FluidModel
+from porenet.core.state import State
+
+#: Length of a new meniscus: the distance between two pore centres, 2a.
+MENISCUS_LENGTH = 2.0
+
+#: Drainage events per call into the kernel when the run must be checked between calls.
+_CHUNK = 256
+
+
+class ViscousConfig(ModelConfig):
+    """Inviscid invader at one pressure displacing a viscous defender (Holtzman & Juanes 2010).
+
+    The defender's pore pressures evolve with the effective compressibility ``c_t = a/gamma``
+    and Darcy fluxes; menisci advance from drained pores once the pressure difference exceeds
+    the entry pressure ``2 gamma / r``; the outer edge drains to a reservoir at p = 0.
+    """
+
+    kind: Literal["viscous"] = "viscous"
+    viscosity: float = Field(
+        1e-3, gt=0, description="Viscosity mu of the defending fluid (Pa s). Paper: 1e-3."
+    )
+    interfacial_tension: float = Field(
+        0.07, gt=0, description="Interfacial tension gamma (N/m). Paper: 0.07 N/m."
+    )
+    control: Literal["rate", "pressure", "ramp"] = Field(
+        "rate",
+        description="Injection control: 'rate' (a pump at rate Q into a reservoir of "
+        "compliance C_inj, the paper's approximately constant rate), 'pressure' (fixed "
+        "invading pressure) or 'ramp' (invading pressure rising linearly in time).",
+    )
+    capillary_number: float | None = Field(
+        None,
+        gt=0,
+        description="Requested Ca = mu v / gamma (-), v = Q / A_b with A_b = 4 L a (centre "
+        "injection). Give this or 'injection_rate' for rate control.",
+    )
+    injection_rate: float | None = Field(
+        None, gt=0, description="Volumetric injection rate Q (m^3/s), instead of Ca."
+    )
+    reservoir: Literal["pore", "drained"] = Field(
+        "pore",
+        description="Compliance of the injection reservoir: 'pore' C_inj = c_t V (one pore, "
+        "default) or 'drained' C_inj = c_t V_drained (stores far more fluid in the invader).",
+    )
+    injection_pressure: float = Field(
+        0.0,
+        ge=0,
+        description="Invading pressure (Pa): the fixed value for 'pressure' control, the "
+        "starting value for 'ramp'; rate control starts from 0.",
+    )
+    ramp_rate: float | None = Field(None, gt=0, description="d p_inv / dt of a 'ramp' (Pa/s).")
+    meniscus: Literal["threshold", "latching"] = Field(
+        "threshold",
+        description="'threshold': a meniscus advances only while p_inv - p_i exceeds its entry "
+        "pressure; 'latching': once started it advances while p_inv > p_i.",
+    )
+    integrator: Literal["auto", "explicit"] = Field(
+        "auto",
+        description="Time integrator: 'explicit' (forward Euler between pores, point-implicit "
+        "menisci and reservoir); 'auto' picks it.",
+    )
+    safety_factor: float = Field(
+        0.9,
+        gt=0,
+        le=1,
+        description="Explicit step as a fraction of the stability limit "
+        "min_i c_t V_i / sum_j g_ij (-). Smaller is more accurate and slower.",
+    )
+    pressure_floor: float = Field(
+        1e-9,
+        ge=0,
+        description="Pressures below this magnitude, in units of gamma/a, do not spread to "
+        "inactive neighbours (-). 0 lets every pressure spread (exact, slowest).",
+    )
+    max_time: float | None = Field(
+        None, gt=0, description="End the run at this time (s) if it has not stopped before."
+    )
+    max_steps: int = Field(
+        200_000_000, gt=0, description="Time steps after which the run fails as runaway (-)."
+    )
+    snapshot_saturations: list[float] = Field(
+        default_factory=list,
+        description="Drained fractions (0-1) at which to store the pressure field.",
+    )
+    snapshot_times: list[float] = Field(
+        default_factory=list, description="Times (s) at which to store the pressure field."
+    )
+
+    @model_validator(mode="after")
+    def _check(self) -> ViscousConfig:
+        given = [n for n in ("capillary_number", "injection_rate") if getattr(self, n) is not None]
+        if self.control == "rate" and len(given) != 1:
+            raise ValueError(
+                "rate control needs exactly one of 'capillary_number' and 'injection_rate' "
+                f"(got {' and '.join(given) if given else 'neither'})"
+            )
+        if self.control != "rate" and given:
+            raise ValueError(f"'{given[0]}' applies only to control = 'rate'")
+        if self.control == "ramp" and self.ramp_rate is None:
+            raise ValueError("control = 'ramp' needs 'ramp_rate' (Pa/s)")
+        if self.control != "ramp" and self.ramp_rate is not None:
+            raise ValueError("'ramp_rate' applies only to control = 'ramp'")
+        if self.control == "pressure" and self.injection_pressure <= 0:
+            raise ValueError("control = 'pressure' needs a positive 'injection_pressure' (Pa)")
+        if any(not 0 < s <= 1 for s in self.snapshot_saturations):
+            raise ValueError("'snapshot_saturations' must lie in (0, 1]")
+        if any(t <= 0 for t in self.snapshot_times):
+            raise ValueError("'snapshot_times' must be positive (s)")
+        return self
+
+    def effects(self) -> dict[str, bool]:
+        return {"capillarity": True, "viscous_dissipation": True, "trapping": True}
+
+
+class ViscousDrainage(FluidModel):
+    """The dynamic model: pore pressures, Darcy fluxes, advancing menisci, injection reservoir.
+
+    Reads ``state.apertures`` at :meth:`setup`. Writes ``drained``, ``trapped``, ``pressure``
+    (defender pressure; invader pressure in drained pores), ``invading_pressure``, ``time``,
+    ``step``, ``n_drained``, ``breakthrough``, ``meniscus_length`` and ``record`` (drainage
+    times, and the invading pressure at each drainage). Scaled units throughout.
+    """
+
+    solves_pressure = True
+    config: ViscousConfig
+
+    # -- setup --------------------------------------------------------------------------
+    def setup(self, state: State) -> None:
+        from porenet.kernels import viscous as vk
+
+        lat, cfg, sc = self.lattice, self.config, self.context.scales
+        at = self.context.injection.at
+        n, m = lat.n_pores, lat.n_throats
+        indptr, nbr, thr = lat.adjacency
+        self._csr = (
+            np.asarray(indptr, np.int64),
+            np.asarray(nbr, np.int64),
+            np.asarray(thr, np.int64),
+        )
+        self._tp = np.ascontiguousarray(lat.throat_pores, dtype=np.int64)
+        c_area, c_perm = lat.throat_factors
+        r = np.asarray(state.apertures, dtype=np.float64)
+        area = c_area * r**2
+        g_num = area * c_perm * r**2
+        self._area, self._g_num = area, g_num
+        self._g_pp = g_num / MENISCUS_LENGTH
+        self._pe = 2.0 / r
+        self._vol = np.ascontiguousarray(lat.pore_volumes, dtype=np.float64)
+        links = lat.outlet_links(at)
+        r_out = lat.mean_aperture
+        self._g_out = links * c_area * c_perm * r_out**4  # half throats of length a
+        self._outlet = np.ascontiguousarray(lat.outlet_mask(at), dtype=bool)
+        #: Boundary cross-section A_b / a^2 (4 L a for centre injection).
+        self.cross_section = float(links.sum())
+        degree_sum = np.zeros(n)
+        np.add.at(degree_sum, self._tp[:, 0], self._g_pp)
+        np.add.at(degree_sum, self._tp[:, 1], self._g_pp)
+        limit = float(np.min(self._vol / (degree_sum + self._g_out)))
+        self.dt_stable = limit
+        self._dt = cfg.safety_factor * limit
+        # Injection (scaled): Q in a^2 gamma / mu, pressures in gamma / a.
+        self._control = {"rate": vk.CONTROL_RATE, "pressure": vk.CONTROL_PRESSURE,
+                         "ramp": vk.CONTROL_RAMP}[cfg.control]  # fmt: skip
+        if cfg.capillary_number is not None:
+            self._q = cfg.capillary_number * self.cross_section
+        elif cfg.injection_rate is not None:
+            self._q = cfg.injection_rate * cfg.viscosity / (sc.length**2 * cfg.interfacial_tension)
+        else:
+            self._q = 0.0
+        mean_volume = float(np.mean(self._vol))
+        self._capacity = mean_volume if cfg.reservoir == "pore" else 0.0
+        self._capacity_per_drained = 1.0 if cfg.reservoir == "drained" else 0.0
+        assert sc.time is not None
+        self._ramp = 0.0 if cfg.ramp_rate is None else cfg.ramp_rate * sc.time / sc.pressure
+        # State.
+        self._p = np.zeros(n)
+        state.pressure = self._p
+        self._ell = np.full(m, MENISCUS_LENGTH)
+        state.meniscus_length = self._ell
+        self._latched = np.zeros(m, dtype=bool)
+        self._front = np.zeros(m, dtype=np.int64)
+        self._fpos = np.full(m, -1, dtype=np.int64)
+        self._act = np.zeros(n, dtype=np.int64)
+        self._apos = np.full(n, -1, dtype=np.int64)
+        self._flux = np.zeros(n)
+        self._gsum = np.zeros(n)
+        self._on_t = np.zeros(m, dtype=np.int64)
+        self._on_p = np.zeros(m, dtype=np.int64)
+        self._landing = np.zeros(m)
+        self._acc = np.zeros(vk.N_ACC)
+        self._acc[vk.ACC["invading_pressure"]] = cfg.injection_pressure / sc.pressure
+        self._cnt = np.zeros(vk.N_CNT, dtype=np.int64)
+        self._order = np.zeros(n, dtype=np.int64)
+        self._via = np.zeros(n, dtype=np.int64)
+        self._rtime = np.zeros(n)
+        self._rpress = np.zeros(n)
+        self._series = np.zeros((n, len(vk.SERIES)))
+        for inlet in lat.inlet_pores(at):
+            vk.drain_pore(
+                int(inlet), -1, *self._csr, self._vol, MENISCUS_LENGTH, self._p, state.drained,
+                self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
+                self._acc, self._cnt, self._order, self._via, self._rtime, self._rpress,
+                self._series,
+            )  # fmt: skip
+        self._status = -1
+        self._synced = 0
+        stop_saturations = sorted(cfg.snapshot_saturations)
+        self._pending_saturations = [math.ceil(s * n) for s in stop_saturations]
+        self._pending_times = sorted(t / sc.time for t in cfg.snapshot_times)
+        self._t_end = math.inf if cfg.max_time is None else cfg.max_time / sc.time
+        self.snapshots: list[dict[str, Any]] = []
+        self._sync(state)
+
+    # -- loop -----------------------------------------------------------------------------
+    def advance(self, state: State, max_events: int) -> int:
+        from porenet.kernels import viscous as vk
+
+        cfg, stop = self.config, self.context.stop
+        before = int(self._cnt[0])
+        budget = max(int(max_events), 0)
+        if stop.at == "complete":
+            budget = min(budget, _CHUNK)
+        if self._pending_saturations:
+            budget = min(budget, max(self._pending_saturations[0] - before, 0))
+        t_end = self._t_end
+        if self._pending_times:
+            t_end = min(t_end, self._pending_times[0])
+        status = 0
+        if budget > 0:
+            status = vk.explicit_advance(
+                *self._csr, self._tp, self._g_pp, self._g_num, self._area, self._pe, self._vol,
+                self._g_out, self._outlet, self._p, state.drained, self._ell, self._latched,
+                self._front, self._fpos, self._act, self._apos, self._flux, self._gsum,
+                self._on_t, self._on_p, self._landing, self._acc, self._cnt, self._order,
+                self._via, self._rtime, self._rpress, self._series, self._dt, self._control,
+                self._q, self._capacity, self._capacity_per_drained, self._ramp,
+                cfg.meniscus == "latching", cfg.pressure_floor, MENISCUS_LENGTH, budget, t_end,
+                cfg.max_steps, stop.at == "breakthrough",
+            )  # fmt: skip
+        self._sync(state)
+        if status in (3, 4, 7):
+            raise NumericalError(
+                f"viscous model: {vk.STATUS[status]} at t = {state.time:g} (scaled) after "
+                f"{int(self._cnt[1])} steps and {state.n_drained} drained pores"
+                + (f" (max_steps = {cfg.max_steps})" if status == 3 else "")
+            )
+        n_now = int(self._cnt[0])
+        if self._pending_saturations and n_now >= self._pending_saturations[0]:
+            self._pending_saturations.pop(0)
+            self._snapshot(state)
+        if self._pending_times and state.time >= self._pending_times[0] * (1 - 1e-12):
+            self._pending_times.pop(0)
+            self._snapshot(state)
+            if status == 2:
+                status = 0  # a snapshot time, not the end
+        if status in (2, 5, 6) or (
+            status == 0 and stop.at == "complete" and self._all_trapped(state)
+        ):
+            self._status = status if status else 5
+        return n_now - before
+
+    def _sync(self, state: State) -> None:
+        """Copy the kernel's counters into the State and extend the record."""
+        k = int(self._cnt[0])
+        start = self._synced
+        if k > start:
+            state.record.extend(
+                self._order[start:k], self._via[start:k], self._rpress[start:k],
+                self._rtime[start:k],
+            )  # fmt: skip
+            self._synced = k
+        state.n_drained = k
+        state.time = float(self._acc[0])
+        state.invading_pressure = float(self._acc[1])
+        state.breakthrough = bool(self._cnt[5]) or bool(self._outlet[state.drained].any())
+        state.step = int(self._cnt[1])
+
+    def _all_trapped(self, state: State) -> bool:
+        from porenet.kernels import ip
+
+        undrained = ~state.drained
+        if not undrained.any():
+            return True
+        enclosed = ip.enclosed_defender(self._csr[0], self._csr[1], state.drained, self._outlet)
+        return bool(np.all(enclosed[undrained]))
+
+    def _snapshot(self, state: State) -> None:
+        pressure = self._p.copy()
+        pressure[state.drained] = state.invading_pressure
+        self.snapshots.append(
+            {
+                "time": state.time,
+                "saturation": state.n_drained / state.n_pores,
+                "invading_pressure": state.invading_pressure,
+                "pressure": pressure,
+                "drained": state.drained.copy(),
+            }
+        )
+
+    @property
+    def exhausted(self) -> bool:
+        return self._status >= 0
+
+    @property
+    def stop_reason(self) -> str | None:
+        from porenet.kernels import viscous as vk
+
+        if self._status < 0:
+            return None
+        return {2: "max_time", 6: "stationary"}.get(
+            self._status, "complete" if self._status == 5 else vk.STATUS[self._status]
+        )
+
+    def finalize(self, state: State) -> None:
+        from porenet.kernels import ip
+
+        self._p[state.drained] = state.invading_pressure
+        state.trapped[:] = ip.enclosed_defender(
+            self._csr[0], self._csr[1], state.drained, self._outlet
+        )
+
+    # -- outputs ----------------------------------------------------------------------------
+    def volumes(self) -> dict[str, float]:
+        """Running volume totals (units of a^3), see :data:`porenet.kernels.viscous.ACC`."""
+        from porenet.kernels import viscous as vk
+
+        return {name: float(self._acc[i]) for name, i in vk.ACC.items()}
+
+    def balance_errors(self) -> tuple[float, float]:
+        """Relative residuals of the invader balance (injected = drained + stored in the
+        reservoir) and the defender balance (drained = stored in the defender + outflow +
+        released), for the totals so far."""
+        v = self.volumes()
+        scale = max(abs(v["injected"]), abs(v["drained"]), 1e-300)
+        invader = v["injected"] - v["drained"] - v["stored_reservoir"]
+        defender = v["drained"] - v["stored_defender"] - v["outflow"] - v["released"]
+        return abs(invader) / scale, abs(defender) / scale
+
+    def measured_capillary_number(self) -> float:
+        """Ca = mu v / gamma with v = V_drained / (t A_b): drained volume over time and the
+        boundary cross-section (0 before any time has passed)."""
+        v = self.volumes()
+        t = v["time"]
+        return v["drained"] / (t * self.cross_section) if t > 0 else 0.0
+
+    def timeseries(self) -> dict[str, np.ndarray]:
+        """Rows at each drainage event (inlets included), scaled units."""
+        from porenet.kernels import viscous as vk
+
+        rows = self._series[: int(self._cnt[0])]
+        series = {name: rows[:, c].copy() for c, name in enumerate(vk.SERIES)}
+        t = series["time"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ca = np.where(t > 0, series["drained"] / (t * self.cross_section), 0.0)
+        series["capillary_number"] = ca
+        return series
+
+    def outputs(self, state: State) -> dict[str, Any]:
+        return {"timeseries": self.timeseries(), "snapshots": self.snapshots}
+
+    def largest_balance_error(self) -> float:
+        """Largest relative volume imbalance over the run: the two balances of
+        :meth:`balance_errors` now, and their sum (injected = stored + outflow + released) at
+        every drainage event."""
+        rows = self.timeseries()
+        scale = np.maximum(np.maximum(np.abs(rows["injected"]), np.abs(rows["drained"])), 1e-300)
+        combined = rows["injected"] - rows["stored"] - rows["outflow"] - rows["released"]
+        worst = float(np.max(np.abs(combined) / scale)) if combined.size else 0.0
+        return max(worst, *self.balance_errors())
+
+    def summary(self, state: State) -> dict[str, Any]:
+        cfg, sc = self.config, self.context.scales
+        requested = cfg.capillary_number
+        if requested is None and cfg.injection_rate is not None:
+            requested = self._q / self.cross_section
+        return {
+            "capillary_number": requested,
+            "capillary_number_measured": self.measured_capillary_number(),
+            "volume_balance_error": self.largest_balance_error(),
+            "time_steps": int(self._cnt[1]),
+            "stable_time_step_s": self.dt_stable * (sc.time or 0.0),
+            "time_step_s": self._dt * (sc.time or 0.0),
+            "final_invading_pressure": state.invading_pressure * sc.pressure,
+            "integrator": "explicit",
+        }

@@ -1,0 +1,525 @@
+"""Kernels of the dynamic viscous drainage model (MODEL.md section 4).
+
+Pure functions on arrays, in scaled units: lengths by ``a``, pressures by ``gamma / a``, times
+by ``mu a / gamma``, volumes by ``a**3``. In these units the paper's equations read
+
+* undrained pore i: ``V_i dp_i/dt = sum_j g_ij (p_j - p_i) + sum_m q_m - g_out,i p_i``,
+  with ``g_ij = A k / 2`` between undrained pores (``l = 2a``) and ``g_out = A k / 1`` for the
+  half throats to the outlet (``c_t = a / gamma`` becomes 1);
+* advancing meniscus m from a drained pore into pore i: ``q_m = (A k / l_m) (p_inv - p_i)``,
+  ``dl_m/dt = -q_m / A``; pore i drains when ``l_m`` reaches 0;
+* injection reservoir of compliance C: ``C dp_inv/dt = Q - sum_m q_m`` (rate control), or
+  ``p_inv`` prescribed (pressure control, ramp).
+
+:func:`explicit_advance` integrates them with forward Euler for the fluxes between undrained
+pores and to the outlet, and point-implicit (backward Euler) for the meniscus fluxes and the
+injection reservoir, which are the stiff terms (a meniscus conductance ``A k / l`` grows without
+bound as ``l -> 0``; a small C makes the reservoir stiff). The pore-to-pore part is stable for
+``dt <= min_i V_i / (sum_j g_ij + g_out,i)``; the implicit part is unconditionally stable, so the
+meniscus and reservoir terms never limit the step. Every flux is computed once and used for both
+sides, so the volume balances close to round-off (see :data:`ACC`). A step that would take a
+meniscus past ``l = 0`` is shortened so that the first one lands exactly on 0 (a monotone
+fixed-point iteration on the step length), and the pore drains at that instant.
+
+Pressure spreads only through the *active* pores: undrained pores next to a meniscus or next to
+an active pore whose pressure exceeds ``floor`` in magnitude. Fluxes to inactive pores are
+neglected (they are below ``g * floor``), which keeps the cost proportional to the region the
+pressure has reached, not to the lattice, and keeps the balances exact.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from porenet.kernels._jit import njit
+
+#: Slots of the ``acc`` array of running totals (scaled units).
+ACC = {
+    "time": 0,
+    "invading_pressure": 1,
+    "injected": 2,  # volume delivered by the pump
+    "drained": 3,  # defender volume displaced by advancing menisci (the invader's volume)
+    "stored_defender": 4,  # sum of V_i p_i over undrained pores (compressibility storage)
+    "outflow": 5,  # defender volume through the outlet
+    "released": 6,  # storage V_i p_i discarded when pore i drains
+    "drained_pore_volume": 7,  # sum of V_i over drained pores
+    "stored_reservoir": 8,  # integral of C dp_inv
+}
+N_ACC = 9
+
+#: Slots of the ``cnt`` array of counters.
+CNT = {"events": 0, "steps": 1, "n_front": 2, "n_active": 3, "where": 4, "breakthrough": 5}
+N_CNT = 6
+
+#: Columns of the time-series rows written at each drainage event.
+SERIES = (
+    "time",
+    "invading_pressure",
+    "injected",
+    "drained",
+    "stored",
+    "outflow",
+    "released",
+    "n_drained",
+)
+
+#: Status codes returned by :func:`explicit_advance`.
+STATUS = {
+    0: "event budget reached",
+    1: "breakthrough",
+    2: "end time reached",
+    3: "step limit reached",
+    4: "non-finite value",
+    5: "no meniscus left",
+    6: "stationary",
+    7: "step could not be shortened enough to keep menisci from receding",
+}
+
+CONTROL_RATE, CONTROL_PRESSURE, CONTROL_RAMP = 0, 1, 2
+
+
+@njit(helper=True)
+def _other(tp: np.ndarray, drained: np.ndarray, f: int) -> int:
+    """The undrained pore of frontier throat ``f``."""
+    a = tp[f, 0]
+    return tp[f, 1] if drained[a] else a
+
+
+@njit(helper=True)
+def _activate(j: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray) -> None:
+    if apos[j] < 0:
+        na = cnt[3]
+        act[na] = j
+        apos[j] = na
+        cnt[3] = na + 1
+
+
+@njit(helper=True)
+def _deactivate(j: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray) -> None:
+    s = apos[j]
+    if s >= 0:
+        last = cnt[3] - 1
+        moved = act[last]
+        act[s] = moved
+        apos[moved] = s
+        apos[j] = -1
+        cnt[3] = last
+
+
+@njit(helper=True)
+def _front_add(f: int, front: np.ndarray, fpos: np.ndarray, cnt: np.ndarray) -> None:
+    if fpos[f] < 0:
+        nf = cnt[2]
+        front[nf] = f
+        fpos[f] = nf
+        cnt[2] = nf + 1
+
+
+@njit(helper=True)
+def _front_remove(f: int, front: np.ndarray, fpos: np.ndarray, cnt: np.ndarray) -> None:
+    s = fpos[f]
+    if s >= 0:
+        last = cnt[2] - 1
+        moved = front[last]
+        front[s] = moved
+        fpos[moved] = s
+        fpos[f] = -1
+        cnt[2] = last
+
+
+@njit
+def drain_pore(
+    i: int,
+    f: int,
+    indptr: np.ndarray,
+    nbr: np.ndarray,
+    thr: np.ndarray,
+    vol: np.ndarray,
+    ell0: float,
+    p: np.ndarray,
+    drained: np.ndarray,
+    ell: np.ndarray,
+    latched: np.ndarray,
+    front: np.ndarray,
+    fpos: np.ndarray,
+    act: np.ndarray,
+    apos: np.ndarray,
+    acc: np.ndarray,
+    cnt: np.ndarray,
+    order: np.ndarray,
+    via: np.ndarray,
+    rtime: np.ndarray,
+    rpress: np.ndarray,
+    series: np.ndarray,
+) -> None:
+    """Drain pore ``i`` through throat ``f`` (-1 for an inlet) at the current time.
+
+    Its stored volume ``V_i p_i`` is released, the menisci entering it vanish, pinned menisci
+    of length ``ell0`` appear in its throats to undrained neighbours (which become active), and
+    the event is appended to the records and to the time series.
+    """
+    drained[i] = True
+    released = vol[i] * p[i]
+    acc[6] += released
+    acc[4] -= released
+    acc[7] += vol[i]
+    p[i] = acc[1]
+    _deactivate(i, act, apos, cnt)
+    for e in range(indptr[i], indptr[i + 1]):
+        j = nbr[e]
+        t = thr[e]
+        if drained[j]:
+            _front_remove(t, front, fpos, cnt)
+        else:
+            ell[t] = ell0
+            latched[t] = False
+            _front_add(t, front, fpos, cnt)
+            _activate(j, act, apos, cnt)
+    k = cnt[0]
+    order[k] = i
+    via[k] = f
+    rtime[k] = acc[0]
+    rpress[k] = acc[1]
+    series[k, 0] = acc[0]
+    series[k, 1] = acc[1]
+    series[k, 2] = acc[2]
+    series[k, 3] = acc[3]
+    series[k, 4] = acc[4] + acc[8]
+    series[k, 5] = acc[5]
+    series[k, 6] = acc[6]
+    series[k, 7] = k + 1
+    cnt[0] = k + 1
+
+
+@njit(helper=True)
+def _invader_pressure(
+    control: int,
+    pinv: float,
+    dt: float,
+    q_rate: float,
+    capacity: float,
+    ramp_rate: float,
+    s0: float,
+    s1: float,
+) -> float:
+    """``p_inv`` at the end of a step of length ``dt`` (backward Euler for the reservoir).
+
+    With the meniscus fluxes ``sum q = s1 p_inv' - s0`` (linear in the new invader pressure),
+    rate control solves ``C (p' - p) = dt (Q - sum q)``.
+    """
+    if control == CONTROL_RATE:
+        return (capacity * pinv + dt * (q_rate + s0)) / (capacity + dt * s1)
+    if control == CONTROL_RAMP:
+        return pinv + ramp_rate * dt
+    return pinv
+
+
+@njit(helper=True)
+def _pore_after(
+    dt: float,
+    i: int,
+    p: np.ndarray,
+    flux: np.ndarray,
+    gsum: np.ndarray,
+    vol: np.ndarray,
+    pnew: float,
+) -> float:
+    """Pressure of pore ``i`` after a step: explicit fluxes, implicit menisci."""
+    w = dt * gsum[i] / vol[i]
+    return (p[i] + dt * flux[i] / vol[i] + w * pnew) / (1.0 + w)
+
+
+@njit(helper=True)
+def _meniscus_terms(
+    dt: float,
+    n_on: int,
+    on_t: np.ndarray,
+    on_p: np.ndarray,
+    p: np.ndarray,
+    flux: np.ndarray,
+    gsum: np.ndarray,
+    vol: np.ndarray,
+    g_num: np.ndarray,
+    ell: np.ndarray,
+    control: int,
+    pinv: float,
+    q_rate: float,
+    capacity: float,
+    ramp_rate: float,
+    q_out: np.ndarray,
+) -> float:
+    """Solve the invader pressure after a step of ``dt`` and write each advancing meniscus'
+    flux into ``q_out[:n_on]``; return the new invader pressure.
+
+    Each meniscus pore's new pressure is linear in the new invader pressure,
+    ``p_i' = alpha_i + beta_i p_inv'``, so the reservoir equation is one linear equation.
+    """
+    s0 = 0.0
+    s1 = 0.0
+    for s in range(n_on):
+        i = on_p[s]
+        w = dt * gsum[i] / vol[i]
+        g = g_num[on_t[s]] / ell[on_t[s]]
+        s0 += g * (p[i] + dt * flux[i] / vol[i]) / (1.0 + w)
+        s1 += g / (1.0 + w)
+    pnew = _invader_pressure(control, pinv, dt, q_rate, capacity, ramp_rate, s0, s1)
+    for s in range(n_on):
+        i = on_p[s]
+        f = on_t[s]
+        q_out[s] = g_num[f] / ell[f] * (pnew - _pore_after(dt, i, p, flux, gsum, vol, pnew))
+    return pnew
+
+
+@njit(helper=True)
+def _first_landing(
+    dt: float, n_on: int, on_t: np.ndarray, on_p: np.ndarray, p: np.ndarray, flux: np.ndarray,
+    gsum: np.ndarray, vol: np.ndarray, g_num: np.ndarray, ell: np.ndarray, area: np.ndarray,
+    control: int, pinv: float, q_rate: float, capacity: float, ramp_rate: float,
+    q_out: np.ndarray,
+) -> tuple[float, int]:
+    """For a step of ``dt``: the shortest time ``l A / q`` any advancing meniscus needs to
+    land at its flux over that step, and its index in ``on_t`` (-1 if none advances)."""
+    _meniscus_terms(
+        dt, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, control, pinv, q_rate, capacity,
+        ramp_rate, q_out,
+    )  # fmt: skip
+    tau = np.inf
+    arg = -1
+    for s in range(n_on):
+        q = q_out[s]
+        if q > 0.0:
+            ts = ell[on_t[s]] * area[on_t[s]] / q
+            if ts < tau:
+                tau = ts
+                arg = s
+    return tau, arg
+
+
+@njit
+def explicit_advance(
+    indptr: np.ndarray,
+    nbr: np.ndarray,
+    thr: np.ndarray,
+    tp: np.ndarray,
+    g_pp: np.ndarray,
+    g_num: np.ndarray,
+    area: np.ndarray,
+    pe: np.ndarray,
+    vol: np.ndarray,
+    g_out: np.ndarray,
+    outlet: np.ndarray,
+    p: np.ndarray,
+    drained: np.ndarray,
+    ell: np.ndarray,
+    latched: np.ndarray,
+    front: np.ndarray,
+    fpos: np.ndarray,
+    act: np.ndarray,
+    apos: np.ndarray,
+    flux: np.ndarray,
+    gsum: np.ndarray,
+    on_t: np.ndarray,
+    on_p: np.ndarray,
+    landing: np.ndarray,
+    acc: np.ndarray,
+    cnt: np.ndarray,
+    order: np.ndarray,
+    via: np.ndarray,
+    rtime: np.ndarray,
+    rpress: np.ndarray,
+    series: np.ndarray,
+    dt_max: float,
+    control: int,
+    q_rate: float,
+    capacity: float,
+    capacity_per_drained: float,
+    ramp_rate: float,
+    latching: bool,
+    floor: float,
+    ell0: float,
+    max_events: int,
+    t_end: float,
+    max_steps: int,
+    stop_at_breakthrough: bool,
+) -> int:
+    """Integrate until ``max_events`` pores drain or another stop (returns a :data:`STATUS` code).
+
+    Parameters
+    ----------
+    indptr, nbr, thr : ndarray of int
+        CSR adjacency (neighbour pore and throat of each entry).
+    tp : ndarray of int, shape (M, 2)
+        Pores of each throat.
+    g_pp, g_num, area, pe : ndarray of float, shape (M,)
+        Conductance between undrained pores ``A k / 2``, meniscus conductance times length
+        ``A k``, throat area ``A`` and entry pressure ``2 / r``.
+    vol, g_out : ndarray of float, shape (N,)
+        Pore volumes and conductance to the outlet reservoir (0 for inner pores).
+    outlet : ndarray of bool, shape (N,)
+        Pores whose drainage is breakthrough.
+    p, drained, ell, latched : state arrays, updated in place
+        Pore pressures (the invader's in drained pores, as of their drainage), drained mask,
+        remaining meniscus length and latched flag of each throat (meaningful on the frontier).
+    front, fpos, act, apos : index lists, updated in place
+        Frontier throats (``front[:cnt[2]]``, ``fpos`` their slots or -1) and active pores
+        (``act[:cnt[3]]``, ``apos`` likewise).
+    flux, gsum, on_t, on_p, landing : scratch space, shapes (N,), (N,), (M,), (M,), (M,)
+    acc, cnt : running totals (:data:`ACC`) and counters (:data:`CNT`), updated in place.
+    order, via, rtime, rpress, series : records, appended at ``cnt[0]`` by :func:`drain_pore`.
+    dt_max : float
+        Largest step (the stability limit times the safety factor).
+    control : int
+        :data:`CONTROL_RATE`, :data:`CONTROL_PRESSURE` or :data:`CONTROL_RAMP`.
+    q_rate, capacity, capacity_per_drained, ramp_rate : float
+        Injection rate; reservoir compliance ``C = capacity + capacity_per_drained * V_drained``;
+        ``dp_inv/dt`` of a ramp.
+    latching : bool
+        Meniscus rule: False for "threshold" (advance only while ``p_inv - p_i > p_e``), True
+        for "latching" (once started, advance while ``p_inv > p_i``).
+    floor : float
+        Pressure magnitude above which a pore activates its neighbours.
+    ell0 : float
+        Length of a new meniscus (2).
+    max_events, t_end, max_steps, stop_at_breakthrough
+        Stops.
+    """
+    events = 0
+    while True:
+        if events >= max_events:
+            return 0
+        t = acc[0]
+        if t >= t_end:
+            return 2
+        if cnt[1] >= max_steps:
+            return 3
+        nf = cnt[2]
+        if nf == 0:
+            return 5
+        na = cnt[3]
+        pinv = acc[1]
+        capacity_now = capacity + capacity_per_drained * acc[7]
+        # Explicit fluxes between active pores and to the outlet.
+        for s in range(na):
+            i = act[s]
+            pi = p[i]
+            total = -g_out[i] * pi
+            for e in range(indptr[i], indptr[i + 1]):
+                j = nbr[e]
+                if apos[j] >= 0:
+                    total += g_pp[thr[e]] * (p[j] - pi)
+            flux[i] = total
+            gsum[i] = 0.0
+        # Which menisci advance (decided at the start of the step): on_t[:n_on], on_p[:n_on].
+        n_on = 0
+        for s in range(nf):
+            f = front[s]
+            i = _other(tp, drained, f)
+            d = pinv - p[i]
+            go = d > pe[f]
+            if latching:
+                if go:
+                    latched[f] = True
+                go = latched[f] and d > 0.0
+            if go:
+                gsum[i] += g_num[f] / ell[f]
+                on_t[n_on] = f
+                on_p[n_on] = i
+                n_on += 1
+        if n_on == 0 and control == CONTROL_PRESSURE:
+            largest = 0.0
+            for s in range(na):
+                i = act[s]
+                largest = max(largest, abs(flux[i]) / vol[i])
+            if largest * dt_max <= floor:
+                return 6
+        # Step length: the stability limit, the end time, and the first meniscus to land on 0.
+        dt = min(dt_max, t_end - t)
+        event = -1
+        for _halving in range(60):
+            event = -1
+            for _it in range(200):
+                tau, arg = _first_landing(
+                    dt, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, area, control, pinv,
+                    q_rate, capacity_now, ramp_rate, landing,
+                )  # fmt: skip
+                if tau >= dt:
+                    break
+                converged = dt - tau <= 1e-14 * dt
+                dt = tau
+                event = arg
+                if converged:
+                    break
+            pnew = _meniscus_terms(
+                dt, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, control, pinv, q_rate,
+                capacity_now, ramp_rate, landing,
+            )  # fmt: skip
+            # No meniscus may recede (defending fluid never enters a drained pore).
+            recede = False
+            for s in range(n_on):
+                if landing[s] < 0.0:
+                    recede = True
+                    break
+            if not recede:
+                break
+            dt *= 0.5
+        else:
+            return 7
+        # Apply the step: landing[s] now holds each advancing meniscus' flux.
+        qsum = 0.0
+        for s in range(n_on):
+            f = on_t[s]
+            q = landing[s]
+            qsum += q
+            ell[f] = 0.0 if s == event else ell[f] - q * dt / area[f]
+        stored = 0.0
+        out = 0.0
+        for s in range(na):
+            i = act[s]
+            pi = p[i]
+            pi_new = _pore_after(dt, i, p, flux, gsum, vol, pnew)
+            out += g_out[i] * pi
+            stored += vol[i] * (pi_new - pi)
+            p[i] = pi_new
+        for s in range(na):  # spread: pores above the floor activate their neighbours
+            i = act[s]
+            if abs(p[i]) > floor:
+                for e in range(indptr[i], indptr[i + 1]):
+                    j = nbr[e]
+                    if not drained[j]:
+                        _activate(j, act, apos, cnt)
+        acc[3] += qsum * dt
+        acc[4] += stored
+        acc[5] += out * dt
+        if control == CONTROL_RATE:
+            acc[2] += q_rate * dt
+        else:
+            acc[2] += qsum * dt + capacity_now * (pnew - pinv)
+        acc[8] += capacity_now * (pnew - pinv)
+        acc[1] = pnew
+        acc[0] = t + dt
+        cnt[1] += 1
+        if not (np.isfinite(pnew) and np.isfinite(stored)):
+            cnt[4] = -1
+            return 4
+        # Drain the pore(s) whose meniscus landed on 0 (ties within round-off drain together).
+        if event >= 0:
+            f = on_t[event]
+            i = on_p[event]
+            completing = [(i, f)]
+            tol = 1e-12 * ell0
+            for s in range(n_on):
+                f2 = on_t[s]
+                if f2 != f and ell[f2] <= tol:
+                    completing.append((on_p[s], f2))
+            for i, f in completing:
+                if drained[i]:
+                    continue
+                drain_pore(
+                    i, f, indptr, nbr, thr, vol, ell0, p, drained, ell, latched, front, fpos,
+                    act, apos, acc, cnt, order, via, rtime, rpress, series,
+                )  # fmt: skip
+                events += 1
+                if outlet[i]:
+                    cnt[5] = 1
+                    if stop_at_breakthrough:
+                        return 1
