@@ -120,7 +120,16 @@ def cmd_plot(args: argparse.Namespace) -> int:
     out = Path(args.output) if args.output else Path(args.runfile).with_suffix(".png")
     if not out.resolve().parent.is_dir():
         raise ConfigError(f"-o {out}: directory does not exist")
-    save_figure(plot_pattern(data), out)
+    if args.pressure:
+        from porenet.viz.pressure import plot_pressure_halo
+
+        try:
+            fig = plot_pressure_halo(data)
+        except ValueError as exc:
+            raise ConfigError(f"{args.runfile}: {exc}") from exc
+    else:
+        fig = plot_pattern(data)
+    save_figure(fig, out)
     print(f"figure: {out}")
     return 0
 
@@ -165,6 +174,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("plot", help="plot the pattern of a run file")
     p.add_argument("runfile", help="run file (HDF5)")
     p.add_argument("-o", "--output", help="picture to write (default: RUNFILE.png)")
+    p.add_argument(
+        "--pressure", action="store_true", help="plot log10(p / p_inv), the pressure halo"
+    )
     p.set_defaults(func=cmd_plot)
 
     p = sub.add_parser("schema", help="print the scene's JSON Schema (for editors)")

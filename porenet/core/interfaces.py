@@ -112,6 +112,14 @@ class Lattice(ABC):
         return np.ones(self.n_pores)
 
     @property
+    def canonical_grid(self) -> bool:
+        """True when the pores form an ``n x n`` grid (pore ``i*n + j``) whose throats are the
+        4-neighbour pairs in canonical order: horizontal ``(i,j)-(i,j+1)`` row-major, then
+        vertical ``(i,j)-(i+1,j)`` row-major. Kernels may then use stencils instead of the
+        adjacency lists. Default False."""
+        return False
+
+    @property
     def throat_factors(self) -> tuple[float, float]:
         """``(c_A, c_k)``: throat area ``A = c_A r**2`` and permeability ``k = c_k r**2``
         (MODEL.md section 1; default 1, 1)."""

@@ -136,6 +136,10 @@ def drain_pore(
     thr: np.ndarray,
     vol: np.ndarray,
     ell0: float,
+    g_eff: np.ndarray,
+    g_out: np.ndarray,
+    grid_n: int,
+    box: np.ndarray,
     p: np.ndarray,
     drained: np.ndarray,
     ell: np.ndarray,
@@ -156,7 +160,8 @@ def drain_pore(
 
     Its stored volume ``V_i p_i`` is released, the menisci entering it vanish, pinned menisci
     of length ``ell0`` appear in its throats to undrained neighbours (which become active), and
-    the event is appended to the records and to the time series.
+    the event is appended to the records and to the time series. Its throats stop
+    conducting between pores (``g_eff``) and it stops draining to the outlet (``g_out``).
     """
     drained[i] = True
     released = vol[i] * p[i]
@@ -164,10 +169,14 @@ def drain_pore(
     acc[4] -= released
     acc[7] += vol[i]
     p[i] = acc[1]
+    g_out[i] = 0.0
     _deactivate(i, act, apos, cnt)
+    if grid_n > 0:
+        _grow_box(box, grid_n, i // grid_n, i % grid_n, 1)
     for e in range(indptr[i], indptr[i + 1]):
         j = nbr[e]
         t = thr[e]
+        g_eff[t] = 0.0
         if drained[j]:
             _front_remove(t, front, fpos, cnt)
         else:
@@ -295,19 +304,162 @@ def _first_landing(
     return tau, arg
 
 
+@njit(helper=True)
+def _fluxes(
+    grid_n: int, box: np.ndarray, na: int, act: np.ndarray, apos: np.ndarray,
+    indptr: np.ndarray, nbr: np.ndarray, thr: np.ndarray, g_eff: np.ndarray,
+    g_out: np.ndarray, p: np.ndarray, flux: np.ndarray, gsum: np.ndarray,
+) -> None:
+    """Explicit flux into every active pore (``flux``) and zero ``gsum``.
+
+    Generic lattices (``grid_n == 0``): the pores ``act[:na]``, neighbours counted only while
+    active. Canonical n x n grids: every pore of the box ``[box[0], box[1]) x [box[2],
+    box[3])`` (rows x columns), throats counted only inside the box; a throat touching a
+    drained pore has ``g_eff = 0`` and a drained pore ``g_out = 0``, so no test is needed.
+    Each pore gathers its own throat fluxes; ``g (p_j - p_i)`` and ``g (p_i - p_j)`` are exact
+    negatives in floating point, so what one pore gains its neighbour loses, to the bit.
+    """
+    if grid_n == 0:
+        for s in range(na):
+            i = act[s]
+            pi = p[i]
+            total = -g_out[i] * pi
+            for e in range(indptr[i], indptr[i + 1]):
+                j = nbr[e]
+                if apos[j] >= 0:
+                    total += g_eff[thr[e]] * (p[j] - pi)
+            flux[i] = total
+            gsum[i] = 0.0
+        return
+    n = grid_n
+    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
+    vertical = n * (n - 1)
+    for i in range(i0, i1):
+        row = i * n
+        h = i * (n - 1) - row  # throat (i, j)-(i, j+1) is h + k for pore k = row + j
+        first, last = row + j0, row + j1 - 1
+        up, down = i > i0, i < i1 - 1
+        for k in range(first, last + 1):
+            pk = p[k]
+            total = -g_out[k] * pk
+            if k > first:
+                total += g_eff[h + k - 1] * (p[k - 1] - pk)
+            if k < last:
+                total += g_eff[h + k] * (p[k + 1] - pk)
+            if up:
+                total += g_eff[vertical + k - n] * (p[k - n] - pk)
+            if down:
+                total += g_eff[vertical + k] * (p[k + n] - pk)
+            flux[k] = total
+            gsum[k] = 0.0
+
+
+@njit(helper=True)
+def _update(
+    grid_n: int, box: np.ndarray, na: int, act: np.ndarray, dt: float, pnew: float,
+    p: np.ndarray, flux: np.ndarray, gsum: np.ndarray, vol: np.ndarray, g_out: np.ndarray,
+) -> tuple[float, float]:
+    """Advance the active pores' pressures; return the change of stored volume and the
+    outflow rate (both from the pressures at the start of the step)."""
+    stored = 0.0
+    out = 0.0
+    if grid_n == 0:
+        for s in range(na):
+            i = act[s]
+            pi = p[i]
+            w = dt * gsum[i] / vol[i]
+            pn = (pi + dt * flux[i] / vol[i] + w * pnew) / (1.0 + w)
+            out += g_out[i] * pi
+            stored += vol[i] * (pn - pi)
+            p[i] = pn
+        return stored, out
+    n = grid_n
+    for i in range(box[0], box[1]):
+        row = i * n
+        for k in range(row + box[2], row + box[3]):
+            pi = p[k]
+            if gsum[k] == 0.0:
+                pn = pi + dt * flux[k] / vol[k]
+            else:
+                w = dt * gsum[k] / vol[k]
+                pn = (pi + dt * flux[k] / vol[k] + w * pnew) / (1.0 + w)
+            out += g_out[k] * pi
+            stored += vol[k] * (pn - pi)
+            p[k] = pn
+    return stored, out
+
+
+@njit(helper=True)
+def _largest_rate(
+    grid_n: int, box: np.ndarray, na: int, act: np.ndarray, flux: np.ndarray, vol: np.ndarray
+) -> float:
+    """Largest ``|dp/dt|`` of an active pore from the explicit fluxes alone."""
+    largest = 0.0
+    if grid_n == 0:
+        for s in range(na):
+            largest = max(largest, abs(flux[act[s]]) / vol[act[s]])
+        return largest
+    for i in range(box[0], box[1]):
+        for k in range(i * grid_n + box[2], i * grid_n + box[3]):
+            largest = max(largest, abs(flux[k]) / vol[k])
+    return largest
+
+
+@njit(helper=True)
+def _grow_box(box: np.ndarray, n: int, i: int, j: int, margin: int) -> None:
+    """Extend the box to hold pore (i, j) and ``margin`` pores around it (within the grid)."""
+    box[0] = min(box[0], max(i - margin, 0))
+    box[1] = max(box[1], min(i + margin + 1, n))
+    box[2] = min(box[2], max(j - margin, 0))
+    box[3] = max(box[3], min(j + margin + 1, n))
+
+
+@njit(helper=True)
+def _spread(
+    grid_n: int, box: np.ndarray, na: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray,
+    indptr: np.ndarray, nbr: np.ndarray, drained: np.ndarray, p: np.ndarray, floor: float,
+) -> None:
+    """Activate the undrained neighbours of active pores whose ``|p|`` exceeds ``floor``
+    (on grids: grow the box by one row or column where its edge exceeds it)."""
+    if grid_n == 0:
+        for s in range(na):
+            i = act[s]
+            if abs(p[i]) > floor:
+                for e in range(indptr[i], indptr[i + 1]):
+                    j = nbr[e]
+                    if apos[j] < 0 and not drained[j]:
+                        _activate(j, act, apos, cnt)
+        return
+    n = grid_n
+    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
+    top = bottom = left = right = False
+    for j in range(j0, j1):
+        top |= abs(p[i0 * n + j]) > floor
+        bottom |= abs(p[(i1 - 1) * n + j]) > floor
+    for i in range(i0, i1):
+        left |= abs(p[i * n + j0]) > floor
+        right |= abs(p[i * n + j1 - 1]) > floor
+    box[0] = max(i0 - 1, 0) if top else i0
+    box[1] = min(i1 + 1, n) if bottom else i1
+    box[2] = max(j0 - 1, 0) if left else j0
+    box[3] = min(j1 + 1, n) if right else j1
+
+
 @njit
 def explicit_advance(
     indptr: np.ndarray,
     nbr: np.ndarray,
     thr: np.ndarray,
     tp: np.ndarray,
-    g_pp: np.ndarray,
+    g_eff: np.ndarray,
     g_num: np.ndarray,
     area: np.ndarray,
     pe: np.ndarray,
     vol: np.ndarray,
     g_out: np.ndarray,
     outlet: np.ndarray,
+    grid_n: int,
+    box: np.ndarray,
     p: np.ndarray,
     drained: np.ndarray,
     ell: np.ndarray,
@@ -350,13 +502,20 @@ def explicit_advance(
         CSR adjacency (neighbour pore and throat of each entry).
     tp : ndarray of int, shape (M, 2)
         Pores of each throat.
-    g_pp, g_num, area, pe : ndarray of float, shape (M,)
-        Conductance between undrained pores ``A k / 2``, meniscus conductance times length
-        ``A k``, throat area ``A`` and entry pressure ``2 / r``.
+    g_eff, g_num, area, pe : ndarray of float, shape (M,)
+        Conductance between undrained pores ``A k / 2`` (set to 0 by :func:`drain_pore` for
+        throats touching a drained pore), meniscus conductance times length ``A k``, throat
+        area ``A`` and entry pressure ``2 / r``.
     vol, g_out : ndarray of float, shape (N,)
-        Pore volumes and conductance to the outlet reservoir (0 for inner pores).
+        Pore volumes and conductance to the outlet reservoir (0 for inner pores, set to 0
+        when a pore drains).
     outlet : ndarray of bool, shape (N,)
         Pores whose drainage is breakthrough.
+    grid_n, box : int, ndarray of int (4,)
+        ``grid_n > 0`` for an ``n x n`` square grid in canonical throat order (horizontal
+        throats row-major, then vertical): the pores of the box of rows ``[box[0], box[1])``
+        and columns ``[box[2], box[3])`` are the active ones and are swept as a stencil.
+        ``grid_n = 0``: generic lattice, active pores listed in ``act``.
     p, drained, ell, latched : state arrays, updated in place
         Pore pressures (the invader's in drained pores, as of their drainage), drained mask,
         remaining meniscus length and latched flag of each throat (meaningful on the frontier).
@@ -398,17 +557,7 @@ def explicit_advance(
         na = cnt[3]
         pinv = acc[1]
         capacity_now = capacity + capacity_per_drained * acc[7]
-        # Explicit fluxes between active pores and to the outlet.
-        for s in range(na):
-            i = act[s]
-            pi = p[i]
-            total = -g_out[i] * pi
-            for e in range(indptr[i], indptr[i + 1]):
-                j = nbr[e]
-                if apos[j] >= 0:
-                    total += g_pp[thr[e]] * (p[j] - pi)
-            flux[i] = total
-            gsum[i] = 0.0
+        _fluxes(grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, p, flux, gsum)
         # Which menisci advance (decided at the start of the step): on_t[:n_on], on_p[:n_on].
         n_on = 0
         for s in range(nf):
@@ -425,13 +574,9 @@ def explicit_advance(
                 on_t[n_on] = f
                 on_p[n_on] = i
                 n_on += 1
-        if n_on == 0 and control == CONTROL_PRESSURE:
-            largest = 0.0
-            for s in range(na):
-                i = act[s]
-                largest = max(largest, abs(flux[i]) / vol[i])
-            if largest * dt_max <= floor:
-                return 6
+        stationary = n_on == 0 and control == CONTROL_PRESSURE
+        if stationary and _largest_rate(grid_n, box, na, act, flux, vol) * dt_max <= floor:
+            return 6
         # Step length: the stability limit, the end time, and the first meniscus to land on 0.
         dt = min(dt_max, t_end - t)
         event = -1
@@ -471,22 +616,8 @@ def explicit_advance(
             q = landing[s]
             qsum += q
             ell[f] = 0.0 if s == event else ell[f] - q * dt / area[f]
-        stored = 0.0
-        out = 0.0
-        for s in range(na):
-            i = act[s]
-            pi = p[i]
-            pi_new = _pore_after(dt, i, p, flux, gsum, vol, pnew)
-            out += g_out[i] * pi
-            stored += vol[i] * (pi_new - pi)
-            p[i] = pi_new
-        for s in range(na):  # spread: pores above the floor activate their neighbours
-            i = act[s]
-            if abs(p[i]) > floor:
-                for e in range(indptr[i], indptr[i + 1]):
-                    j = nbr[e]
-                    if not drained[j]:
-                        _activate(j, act, apos, cnt)
+        stored, out = _update(grid_n, box, na, act, dt, pnew, p, flux, gsum, vol, g_out)
+        _spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
         acc[3] += qsum * dt
         acc[4] += stored
         acc[5] += out * dt
@@ -515,8 +646,9 @@ def explicit_advance(
                 if drained[i]:
                     continue
                 drain_pore(
-                    i, f, indptr, nbr, thr, vol, ell0, p, drained, ell, latched, front, fpos,
-                    act, apos, acc, cnt, order, via, rtime, rpress, series,
+                    i, f, indptr, nbr, thr, vol, ell0, g_eff, g_out, grid_n, box, p, drained,
+                    ell, latched, front, fpos, act, apos, acc, cnt, order, via, rtime, rpress,
+                    series,
                 )  # fmt: skip
                 events += 1
                 if outlet[i]:

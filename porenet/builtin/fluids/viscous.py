@@ -156,18 +156,22 @@ class ViscousDrainage(FluidModel):
         area = c_area * r**2
         g_num = area * c_perm * r**2
         self._area, self._g_num = area, g_num
-        self._g_pp = g_num / MENISCUS_LENGTH
+        self._g_eff = g_num / MENISCUS_LENGTH  # zeroed for throats touching drained pores
         self._pe = 2.0 / r
         self._vol = np.ascontiguousarray(lat.pore_volumes, dtype=np.float64)
         links = lat.outlet_links(at)
         r_out = lat.mean_aperture
         self._g_out = links * c_area * c_perm * r_out**4  # half throats of length a
         self._outlet = np.ascontiguousarray(lat.outlet_mask(at), dtype=bool)
+        # Canonical square grids are swept as a stencil over a growing box of active pores.
+        self._grid_n = int(lat.grid_shape[0]) if lat.canonical_grid else 0
+        self._box = np.zeros(4, dtype=np.int64)
+        self._box[[0, 2]] = self._grid_n
         #: Boundary cross-section A_b / a^2 (4 L a for centre injection).
         self.cross_section = float(links.sum())
         degree_sum = np.zeros(n)
-        np.add.at(degree_sum, self._tp[:, 0], self._g_pp)
-        np.add.at(degree_sum, self._tp[:, 1], self._g_pp)
+        np.add.at(degree_sum, self._tp[:, 0], self._g_eff)
+        np.add.at(degree_sum, self._tp[:, 1], self._g_eff)
         limit = float(np.min(self._vol / (degree_sum + self._g_out)))
         self.dt_stable = limit
         self._dt = cfg.safety_factor * limit
@@ -210,7 +214,8 @@ class ViscousDrainage(FluidModel):
         self._series = np.zeros((n, len(vk.SERIES)))
         for inlet in lat.inlet_pores(at):
             vk.drain_pore(
-                int(inlet), -1, *self._csr, self._vol, MENISCUS_LENGTH, self._p, state.drained,
+                int(inlet), -1, *self._csr, self._vol, MENISCUS_LENGTH, self._g_eff,
+                self._g_out, self._grid_n, self._box, self._p, state.drained,
                 self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
                 self._acc, self._cnt, self._order, self._via, self._rtime, self._rpress,
                 self._series,
@@ -241,8 +246,9 @@ class ViscousDrainage(FluidModel):
         status = 0
         if budget > 0:
             status = vk.explicit_advance(
-                *self._csr, self._tp, self._g_pp, self._g_num, self._area, self._pe, self._vol,
-                self._g_out, self._outlet, self._p, state.drained, self._ell, self._latched,
+                *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
+                self._g_out, self._outlet, self._grid_n, self._box, self._p, state.drained,
+                self._ell, self._latched,
                 self._front, self._fpos, self._act, self._apos, self._flux, self._gsum,
                 self._on_t, self._on_p, self._landing, self._acc, self._cnt, self._order,
                 self._via, self._rtime, self._rpress, self._series, self._dt, self._control,

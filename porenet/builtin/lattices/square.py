@@ -209,6 +209,10 @@ class SquareLattice(Lattice):
         return np.full(self.n_pores, float(self.config.volume_factor))
 
     @property
+    def canonical_grid(self) -> bool:
+        return True
+
+    @property
     def throat_factors(self) -> tuple[float, float]:
         return float(self.config.area_factor), float(self.config.permeability_factor)
 
