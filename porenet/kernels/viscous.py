@@ -306,34 +306,85 @@ def _first_landing(
 
 @njit(helper=True)
 def _fluxes(
-    grid_n: int, box: np.ndarray, na: int, act: np.ndarray, apos: np.ndarray,
-    indptr: np.ndarray, nbr: np.ndarray, thr: np.ndarray, g_eff: np.ndarray,
-    g_out: np.ndarray, p: np.ndarray, flux: np.ndarray, gsum: np.ndarray,
+    na: int, act: np.ndarray, apos: np.ndarray, indptr: np.ndarray, nbr: np.ndarray,
+    thr: np.ndarray, g_eff: np.ndarray, g_out: np.ndarray, p: np.ndarray, flux: np.ndarray,
 ) -> None:
-    """Explicit flux into every active pore (``flux``) and zero ``gsum``.
+    """Generic lattices: explicit flux into each active pore ``act[:na]`` (neighbours counted
+    only while active, so what one pore gains its neighbour loses)."""
+    for s in range(na):
+        i = act[s]
+        pi = p[i]
+        total = -g_out[i] * pi
+        for e in range(indptr[i], indptr[i + 1]):
+            j = nbr[e]
+            if apos[j] >= 0:
+                total += g_eff[thr[e]] * (p[j] - pi)
+        flux[i] = total
 
-    Generic lattices (``grid_n == 0``): the pores ``act[:na]``, neighbours counted only while
-    active. Canonical n x n grids: every pore of the box ``[box[0], box[1]) x [box[2],
-    box[3])`` (rows x columns), throats counted only inside the box; a throat touching a
-    drained pore has ``g_eff = 0`` and a drained pore ``g_out = 0``, so no test is needed.
-    Each pore gathers its own throat fluxes; ``g (p_j - p_i)`` and ``g (p_i - p_j)`` are exact
-    negatives in floating point, so what one pore gains its neighbour loses, to the bit.
-    """
-    if grid_n == 0:
-        for s in range(na):
-            i = act[s]
-            pi = p[i]
-            total = -g_out[i] * pi
-            for e in range(indptr[i], indptr[i + 1]):
-                j = nbr[e]
-                if apos[j] >= 0:
-                    total += g_eff[thr[e]] * (p[j] - pi)
-            flux[i] = total
-            gsum[i] = 0.0
-        return
-    n = grid_n
+
+@njit(helper=True)
+def _update(
+    na: int, act: np.ndarray, dt: float, pnew: float, p: np.ndarray, flux: np.ndarray,
+    gsum: np.ndarray, vol: np.ndarray, g_out: np.ndarray,
+) -> tuple[float, float, float]:
+    """Generic lattices: advance the active pores (explicit fluxes, implicit menisci); return
+    the change of stored volume, the outflow rate (from the pressures at the start of the
+    step) and the largest ``|dp/dt|`` from the explicit fluxes."""
+    stored = 0.0
+    out = 0.0
+    largest = 0.0
+    for s in range(na):
+        i = act[s]
+        pi = p[i]
+        pn = _pore_after(dt, i, p, flux, gsum, vol, pnew)
+        out += g_out[i] * pi
+        stored += vol[i] * (pn - pi)
+        largest = max(largest, abs(flux[i]) / vol[i])
+        p[i] = pn
+    return stored, out, largest
+
+
+@njit(helper=True)
+def _grid_flux(
+    n: int, box: np.ndarray, k: int, p: np.ndarray, g_eff: np.ndarray, g_out: np.ndarray
+) -> float:
+    """Canonical n x n grids: explicit flux into pore ``k`` from its neighbours inside the box
+    of active pores (rows ``[box[0], box[1])``, columns ``[box[2], box[3])``) and from the
+    outlet; the same terms as :func:`_sweep_grid`."""
+    i = k // n
+    j = k - i * n
+    pk = p[k]
+    vertical = n * (n - 1)
+    total = -g_out[k] * pk
+    if j > box[2]:
+        total += g_eff[i * (n - 1) + j - 1] * (p[k - 1] - pk)
+    if j < box[3] - 1:
+        total += g_eff[i * (n - 1) + j] * (p[k + 1] - pk)
+    if i > box[0]:
+        total += g_eff[vertical + k - n] * (p[k - n] - pk)
+    if i < box[1] - 1:
+        total += g_eff[vertical + k] * (p[k + n] - pk)
+    return total
+
+
+@njit(helper=True)
+def _sweep_grid(
+    n: int, box: np.ndarray, dt: float, g_eff: np.ndarray, g_out: np.ndarray,
+    vol: np.ndarray, p: np.ndarray, p_next: np.ndarray,
+) -> tuple[float, float, float]:
+    """Canonical n x n grids: forward Euler for every pore of the box of active pores, from
+    ``p`` into ``p_next``, in one pass (throats in canonical order: horizontal (i,j)-(i,j+1)
+    is ``i (n-1) + j``, vertical (i,j)-(i+1,j) is ``n (n-1) + i n + j``). A throat touching
+    a drained pore has ``g_eff = 0`` and a drained pore ``g_out = 0``, so drained pores keep
+    their value with no test. Each pore gathers its own throat fluxes; ``g (p_j - p_i)`` and
+    ``g (p_i - p_j)`` are exact negatives in floating point, so what one pore gains its
+    neighbour loses, to the bit. Returns the change of stored volume, the outflow rate and
+    the largest ``|dp/dt|``."""
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
     vertical = n * (n - 1)
+    stored = 0.0
+    out = 0.0
+    largest = 0.0
     for i in range(i0, i1):
         row = i * n
         h = i * (n - 1) - row  # throat (i, j)-(i, j+1) is h + k for pore k = row + j
@@ -350,59 +401,13 @@ def _fluxes(
                 total += g_eff[vertical + k - n] * (p[k - n] - pk)
             if down:
                 total += g_eff[vertical + k] * (p[k + n] - pk)
-            flux[k] = total
-            gsum[k] = 0.0
-
-
-@njit(helper=True)
-def _update(
-    grid_n: int, box: np.ndarray, na: int, act: np.ndarray, dt: float, pnew: float,
-    p: np.ndarray, flux: np.ndarray, gsum: np.ndarray, vol: np.ndarray, g_out: np.ndarray,
-) -> tuple[float, float]:
-    """Advance the active pores' pressures; return the change of stored volume and the
-    outflow rate (both from the pressures at the start of the step)."""
-    stored = 0.0
-    out = 0.0
-    if grid_n == 0:
-        for s in range(na):
-            i = act[s]
-            pi = p[i]
-            w = dt * gsum[i] / vol[i]
-            pn = (pi + dt * flux[i] / vol[i] + w * pnew) / (1.0 + w)
-            out += g_out[i] * pi
-            stored += vol[i] * (pn - pi)
-            p[i] = pn
-        return stored, out
-    n = grid_n
-    for i in range(box[0], box[1]):
-        row = i * n
-        for k in range(row + box[2], row + box[3]):
-            pi = p[k]
-            if gsum[k] == 0.0:
-                pn = pi + dt * flux[k] / vol[k]
-            else:
-                w = dt * gsum[k] / vol[k]
-                pn = (pi + dt * flux[k] / vol[k] + w * pnew) / (1.0 + w)
-            out += g_out[k] * pi
-            stored += vol[k] * (pn - pi)
-            p[k] = pn
-    return stored, out
-
-
-@njit(helper=True)
-def _largest_rate(
-    grid_n: int, box: np.ndarray, na: int, act: np.ndarray, flux: np.ndarray, vol: np.ndarray
-) -> float:
-    """Largest ``|dp/dt|`` of an active pore from the explicit fluxes alone."""
-    largest = 0.0
-    if grid_n == 0:
-        for s in range(na):
-            largest = max(largest, abs(flux[act[s]]) / vol[act[s]])
-        return largest
-    for i in range(box[0], box[1]):
-        for k in range(i * grid_n + box[2], i * grid_n + box[3]):
-            largest = max(largest, abs(flux[k]) / vol[k])
-    return largest
+            rate = total / vol[k]
+            pn = pk + dt * rate
+            p_next[k] = pn
+            out += g_out[k] * pk
+            stored += vol[k] * (pn - pk)
+            largest = max(largest, abs(rate))
+    return stored, out, largest
 
 
 @njit(helper=True)
@@ -470,6 +475,7 @@ def explicit_advance(
     apos: np.ndarray,
     flux: np.ndarray,
     gsum: np.ndarray,
+    p_next: np.ndarray,
     on_t: np.ndarray,
     on_p: np.ndarray,
     landing: np.ndarray,
@@ -493,6 +499,7 @@ def explicit_advance(
     t_end: float,
     max_steps: int,
     stop_at_breakthrough: bool,
+    step_budget: int,
 ) -> int:
     """Integrate until ``max_events`` pores drain or another stop (returns a :data:`STATUS` code).
 
@@ -522,7 +529,9 @@ def explicit_advance(
     front, fpos, act, apos : index lists, updated in place
         Frontier throats (``front[:cnt[2]]``, ``fpos`` their slots or -1) and active pores
         (``act[:cnt[3]]``, ``apos`` likewise).
-    flux, gsum, on_t, on_p, landing : scratch space, shapes (N,), (N,), (M,), (M,), (M,)
+    flux, gsum, p_next, on_t, on_p, landing : scratch, shapes (N,), (N,), (N,), (M,), (M,), (M,)
+        ``gsum`` (the meniscus conductances into each pore) must be zero on entry and is
+        left zero.
     acc, cnt : running totals (:data:`ACC`) and counters (:data:`CNT`), updated in place.
     order, via, rtime, rpress, series : records, appended at ``cnt[0]`` by :func:`drain_pore`.
     dt_max : float
@@ -541,10 +550,15 @@ def explicit_advance(
         Length of a new meniscus (2).
     max_events, t_end, max_steps, stop_at_breakthrough
         Stops.
+    step_budget : int
+        Return (status 0) after this many steps in this call, so the caller can report
+        progress and run observers during long stretches without drainage.
     """
     events = 0
+    steps_at_entry = cnt[1]
+    last_rate = np.inf  # largest |dp/dt| of the last step (for the stationarity test)
     while True:
-        if events >= max_events:
+        if events >= max_events or cnt[1] - steps_at_entry >= step_budget:
             return 0
         t = acc[0]
         if t >= t_end:
@@ -557,7 +571,8 @@ def explicit_advance(
         na = cnt[3]
         pinv = acc[1]
         capacity_now = capacity + capacity_per_drained * acc[7]
-        _fluxes(grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, p, flux, gsum)
+        if grid_n == 0:
+            _fluxes(na, act, apos, indptr, nbr, thr, g_eff, g_out, p, flux)
         # Which menisci advance (decided at the start of the step): on_t[:n_on], on_p[:n_on].
         n_on = 0
         for s in range(nf):
@@ -574,8 +589,10 @@ def explicit_advance(
                 on_t[n_on] = f
                 on_p[n_on] = i
                 n_on += 1
-        stationary = n_on == 0 and control == CONTROL_PRESSURE
-        if stationary and _largest_rate(grid_n, box, na, act, flux, vol) * dt_max <= floor:
+        if grid_n > 0:  # the grid sweep needs the explicit fluxes of the meniscus pores only
+            for s in range(n_on):
+                flux[on_p[s]] = _grid_flux(grid_n, box, on_p[s], p, g_eff, g_out)
+        if n_on == 0 and control == CONTROL_PRESSURE and last_rate * dt_max <= floor:
             return 6
         # Step length: the stability limit, the end time, and the first meniscus to land on 0.
         dt = min(dt_max, t_end - t)
@@ -616,7 +633,20 @@ def explicit_advance(
             q = landing[s]
             qsum += q
             ell[f] = 0.0 if s == event else ell[f] - q * dt / area[f]
-        stored, out = _update(grid_n, box, na, act, dt, pnew, p, flux, gsum, vol, g_out)
+        if grid_n == 0:
+            stored, out, last_rate = _update(na, act, dt, pnew, p, flux, gsum, vol, g_out)
+        else:
+            stored, out, last_rate = _sweep_grid(grid_n, box, dt, g_eff, g_out, vol, p, p_next)
+            for s in range(n_on):  # meniscus pores: implicit in the meniscus fluxes
+                i = on_p[s]
+                implicit = _pore_after(dt, i, p, flux, gsum, vol, pnew)
+                stored += vol[i] * (implicit - p_next[i])
+                p_next[i] = implicit
+            for i in range(box[0], box[1]):
+                start = i * grid_n
+                p[start + box[2] : start + box[3]] = p_next[start + box[2] : start + box[3]]
+        for s in range(n_on):
+            gsum[on_p[s]] = 0.0
         _spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
         acc[3] += qsum * dt
         acc[4] += stored

@@ -16,8 +16,10 @@ from porenet.core.state import State
 #: Length of a new meniscus: the distance between two pore centres, 2a.
 MENISCUS_LENGTH = 2.0
 
-#: Drainage events per call into the kernel when the run must be checked between calls.
+#: Most drainage events and time steps per call into the kernel: the Simulation regains
+#: control this often to run observers (progress, snapshots) and check the stops.
 _CHUNK = 256
+_STEP_CHUNK = 20_000
 
 
 class ViscousConfig(ModelConfig):
@@ -201,6 +203,7 @@ class ViscousDrainage(FluidModel):
         self._apos = np.full(n, -1, dtype=np.int64)
         self._flux = np.zeros(n)
         self._gsum = np.zeros(n)
+        self._p_next = np.zeros(n)
         self._on_t = np.zeros(m, dtype=np.int64)
         self._on_p = np.zeros(m, dtype=np.int64)
         self._landing = np.zeros(m)
@@ -228,6 +231,40 @@ class ViscousDrainage(FluidModel):
         self._t_end = math.inf if cfg.max_time is None else cfg.max_time / sc.time
         self.snapshots: list[dict[str, Any]] = []
         self._sync(state)
+        self._check_step_count(state)
+
+    def _check_step_count(self, state: State) -> None:
+        """Fail at once, saying why, when the run cannot reach breakthrough within max_steps.
+
+        Under rate control breakthrough needs at least the volume of the shortest path of
+        pores from the inlet to the outlet (each pore costs a meniscus sweep of at least
+        ``2 A_min``), delivered at rate Q: a lower bound on the time, hence on the steps.
+        """
+        from scipy.sparse import csr_matrix
+        from scipy.sparse.csgraph import shortest_path
+
+        cfg, stop = self.config, self.context.stop
+        if cfg.control != "rate" or stop.at != "breakthrough" or cfg.max_time is not None:
+            return
+        indptr, nbr, _ = self._csr
+        n = len(indptr) - 1
+        graph = csr_matrix((np.ones(len(nbr)), nbr, indptr), shape=(n, n))
+        sources = np.flatnonzero(state.drained)
+        dist = shortest_path(graph, unweighted=True, indices=sources, directed=False)
+        hops = float(np.min(np.atleast_2d(dist)[:, self._outlet]))
+        if not np.isfinite(hops):
+            return
+        volume = hops * MENISCUS_LENGTH * float(np.min(self._area))
+        steps = volume / self._q / self._dt
+        if steps > cfg.max_steps:
+            sc = self.context.scales
+            raise NumericalError(
+                f"viscous model: Ca = {self._q / self.cross_section:.3g} needs at least "
+                f"{steps:.3g} explicit time steps to reach breakthrough (time step "
+                f"{self._dt * (sc.time or 0):.3g} s), more than fluid.max_steps = "
+                f"{cfg.max_steps}; at such capillary numbers invasion percolation gives the "
+                f"same pattern (see docs/accuracy.md), or raise max_steps"
+            )
 
     # -- loop -----------------------------------------------------------------------------
     def advance(self, state: State, max_events: int) -> int:
@@ -236,8 +273,7 @@ class ViscousDrainage(FluidModel):
         cfg, stop = self.config, self.context.stop
         before = int(self._cnt[0])
         budget = max(int(max_events), 0)
-        if stop.at == "complete":
-            budget = min(budget, _CHUNK)
+        budget = min(budget, _CHUNK)
         if self._pending_saturations:
             budget = min(budget, max(self._pending_saturations[0] - before, 0))
         t_end = self._t_end
@@ -248,13 +284,13 @@ class ViscousDrainage(FluidModel):
             status = vk.explicit_advance(
                 *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
                 self._g_out, self._outlet, self._grid_n, self._box, self._p, state.drained,
-                self._ell, self._latched,
-                self._front, self._fpos, self._act, self._apos, self._flux, self._gsum,
-                self._on_t, self._on_p, self._landing, self._acc, self._cnt, self._order,
-                self._via, self._rtime, self._rpress, self._series, self._dt, self._control,
-                self._q, self._capacity, self._capacity_per_drained, self._ramp,
-                cfg.meniscus == "latching", cfg.pressure_floor, MENISCUS_LENGTH, budget, t_end,
-                cfg.max_steps, stop.at == "breakthrough",
+                self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
+                self._flux, self._gsum, self._p_next, self._on_t, self._on_p, self._landing,
+                self._acc, self._cnt, self._order, self._via, self._rtime, self._rpress,
+                self._series, self._dt, self._control, self._q, self._capacity,
+                self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
+                cfg.pressure_floor, MENISCUS_LENGTH, budget, t_end, cfg.max_steps,
+                stop.at == "breakthrough", _STEP_CHUNK,
             )  # fmt: skip
         self._sync(state)
         if status in (3, 4, 7):

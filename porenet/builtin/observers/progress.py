@@ -30,20 +30,25 @@ class Progress(Observer):
         self.trigger = EverySeconds(self.config.every_seconds)
         self._t0 = time.perf_counter()
         self._total = 0
+        self._time_scale: float | None = None
         self._active = bool(getattr(self.stream, "isatty", lambda: False)())
 
     def attach(self, run: Any) -> None:
         self._t0 = time.perf_counter()
         self._total = run.lattice.n_pores
+        self._time_scale = run.scales.time
 
     def observe(self, state: State) -> None:
         if not self._active:
             return
         elapsed = time.perf_counter() - self._t0
         rate = state.n_drained / elapsed if elapsed > 0 else 0.0
+        model_time = ""
+        if self._time_scale is not None:
+            model_time = f"  t = {state.time * self._time_scale:.3e} s, step {state.step}"
         self.stream.write(
             f"\r  drained {state.n_drained:>9d} / {self._total} pores"
-            f"  {rate:9.0f} pores/s  {elapsed:7.1f} s"
+            f"  {rate:9.0f} pores/s  {elapsed:7.1f} s{model_time}"
         )
         self.stream.flush()
 
