@@ -72,7 +72,6 @@ STATUS = {
     4: "non-finite value",
     5: "no meniscus left",
     6: "stationary",
-    7: "step could not be shortened enough to keep menisci from receding",
 }
 
 CONTROL_RATE, CONTROL_PRESSURE, CONTROL_RAMP = 0, 1, 2
@@ -280,34 +279,118 @@ def _meniscus_terms(
 
 
 @njit(helper=True)
-def _first_landing(
-    dt: float, n_on: int, on_t: np.ndarray, on_p: np.ndarray, p: np.ndarray, flux: np.ndarray,
-    gsum: np.ndarray, vol: np.ndarray, g_num: np.ndarray, ell: np.ndarray, area: np.ndarray,
-    control: int, pinv: float, q_rate: float, capacity: float, ramp_rate: float,
+def _shortest_remaining(
+    dt: float,
+    n_on: int,
+    on_t: np.ndarray,
+    on_p: np.ndarray,
+    p: np.ndarray,
+    flux: np.ndarray,
+    gsum: np.ndarray,
+    vol: np.ndarray,
+    g_num: np.ndarray,
+    ell: np.ndarray,
+    area: np.ndarray,
+    control: int,
+    pinv: float,
+    q_rate: float,
+    capacity: float,
+    ramp_rate: float,
     q_out: np.ndarray,
 ) -> tuple[float, int]:
-    """For a step of ``dt``: the shortest time ``l A / q`` any advancing meniscus needs to
-    land at its flux over that step, and its index in ``on_t`` (-1 if none advances)."""
+    """After a step of ``dt``: the smallest remaining meniscus length ``l - q dt / A`` among
+    the advancing menisci, and its index in ``on_t`` (``inf, -1`` if none advances)."""
     _meniscus_terms(
         dt, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, control, pinv, q_rate, capacity,
         ramp_rate, q_out,
     )  # fmt: skip
-    tau = np.inf
+    shortest = np.inf
     arg = -1
     for s in range(n_on):
-        q = q_out[s]
-        if q > 0.0:
-            ts = ell[on_t[s]] * area[on_t[s]] / q
-            if ts < tau:
-                tau = ts
-                arg = s
-    return tau, arg
+        f = on_t[s]
+        remaining = ell[f] - q_out[s] * dt / area[f]
+        if remaining < shortest:
+            shortest = remaining
+            arg = s
+    return shortest, arg
+
+
+@njit(helper=True)
+def _landing_step(
+    dt_hi: float,
+    ell0: float,
+    n_on: int,
+    on_t: np.ndarray,
+    on_p: np.ndarray,
+    p: np.ndarray,
+    flux: np.ndarray,
+    gsum: np.ndarray,
+    vol: np.ndarray,
+    g_num: np.ndarray,
+    ell: np.ndarray,
+    area: np.ndarray,
+    control: int,
+    pinv: float,
+    q_rate: float,
+    capacity: float,
+    ramp_rate: float,
+    q_out: np.ndarray,
+) -> tuple[float, int]:
+    """The step: ``dt_hi`` if no advancing meniscus lands within it, else the first landing.
+
+    The smallest remaining length after a step of ``dt``, ``phi(dt)``, is continuous with
+    ``phi(0) > 0``; if ``phi(dt_hi) <= 0`` its first root is bracketed and found by regula
+    falsi (Illinois variant) to ``1e-14`` relative in the step or ``1e-14 l0`` in the
+    length. Returns ``(dt, index in on_t of the landing meniscus or -1)``; at that ``dt``
+    the landing meniscus is within ``1e-14 l0`` of 0 (it may be a hair past it, never short).
+    """
+    phi_hi, arg = _shortest_remaining(
+        dt_hi, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, area, control, pinv, q_rate,
+        capacity, ramp_rate, q_out,
+    )  # fmt: skip
+    if phi_hi > 0.0:
+        return dt_hi, -1
+    lo, phi_lo = 0.0, np.inf
+    for s in range(n_on):
+        phi_lo = min(phi_lo, ell[on_t[s]])
+    hi = dt_hi
+    w_lo, w_hi = phi_lo, phi_hi  # secant weights (halved on a repeated side: Illinois)
+    side = 0
+    for _ in range(200):
+        if hi - lo <= 1e-14 * hi or -phi_hi <= 1e-14 * ell0:
+            break
+        mid = hi - w_hi * (hi - lo) / (w_hi - w_lo)
+        if not lo < mid < hi:
+            mid = 0.5 * (lo + hi)
+        phi_mid, arg_mid = _shortest_remaining(
+            mid, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, area, control, pinv,
+            q_rate, capacity, ramp_rate, q_out,
+        )  # fmt: skip
+        if phi_mid > 0.0:
+            lo, w_lo = mid, phi_mid
+            if side == -1:
+                w_hi *= 0.5
+            side = -1
+        else:
+            hi, phi_hi, w_hi, arg = mid, phi_mid, phi_mid, arg_mid
+            if side == 1:
+                w_lo *= 0.5
+            side = 1
+    return hi, arg
 
 
 @njit(helper=True)
 def _fluxes(
-    na: int, act: np.ndarray, apos: np.ndarray, indptr: np.ndarray, nbr: np.ndarray,
-    thr: np.ndarray, g_eff: np.ndarray, g_out: np.ndarray, p: np.ndarray, flux: np.ndarray,
+    na: int,
+    act: np.ndarray,
+    apos: np.ndarray,
+    indptr: np.ndarray,
+    nbr: np.ndarray,
+    thr: np.ndarray,
+    g_eff: np.ndarray,
+    g_out: np.ndarray,
+    p: np.ndarray,
+    flux: np.ndarray,
 ) -> None:
     """Generic lattices: explicit flux into each active pore ``act[:na]`` (neighbours counted
     only while active, so what one pore gains its neighbour loses)."""
@@ -324,8 +407,15 @@ def _fluxes(
 
 @njit(helper=True)
 def _update(
-    na: int, act: np.ndarray, dt: float, pnew: float, p: np.ndarray, flux: np.ndarray,
-    gsum: np.ndarray, vol: np.ndarray, g_out: np.ndarray,
+    na: int,
+    act: np.ndarray,
+    dt: float,
+    pnew: float,
+    p: np.ndarray,
+    flux: np.ndarray,
+    gsum: np.ndarray,
+    vol: np.ndarray,
+    g_out: np.ndarray,
 ) -> tuple[float, float, float]:
     """Generic lattices: advance the active pores (explicit fluxes, implicit menisci); return
     the change of stored volume, the outflow rate (from the pressures at the start of the
@@ -369,8 +459,14 @@ def _grid_flux(
 
 @njit(helper=True)
 def _sweep_grid(
-    n: int, box: np.ndarray, dt: float, g_eff: np.ndarray, g_out: np.ndarray,
-    vol: np.ndarray, p: np.ndarray, p_next: np.ndarray,
+    n: int,
+    box: np.ndarray,
+    dt: float,
+    g_eff: np.ndarray,
+    g_out: np.ndarray,
+    vol: np.ndarray,
+    p: np.ndarray,
+    p_next: np.ndarray,
 ) -> tuple[float, float, float]:
     """Canonical n x n grids: forward Euler for every pore of the box of active pores, from
     ``p`` into ``p_next``, in one pass (throats in canonical order: horizontal (i,j)-(i,j+1)
@@ -421,8 +517,17 @@ def _grow_box(box: np.ndarray, n: int, i: int, j: int, margin: int) -> None:
 
 @njit(helper=True)
 def _spread(
-    grid_n: int, box: np.ndarray, na: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray,
-    indptr: np.ndarray, nbr: np.ndarray, drained: np.ndarray, p: np.ndarray, floor: float,
+    grid_n: int,
+    box: np.ndarray,
+    na: int,
+    act: np.ndarray,
+    apos: np.ndarray,
+    cnt: np.ndarray,
+    indptr: np.ndarray,
+    nbr: np.ndarray,
+    drained: np.ndarray,
+    p: np.ndarray,
+    floor: float,
 ) -> None:
     """Activate the undrained neighbours of active pores whose ``|p|`` exceeds ``floor``
     (on grids: grow the box by one row or column where its edge exceeds it)."""
@@ -595,37 +700,38 @@ def explicit_advance(
         if n_on == 0 and control == CONTROL_PRESSURE and last_rate * dt_max <= floor:
             return 6
         # Step length: the stability limit, the end time, and the first meniscus to land on 0.
-        dt = min(dt_max, t_end - t)
-        event = -1
-        for _halving in range(60):
-            event = -1
-            for _it in range(200):
-                tau, arg = _first_landing(
-                    dt, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, area, control, pinv,
-                    q_rate, capacity_now, ramp_rate, landing,
-                )  # fmt: skip
-                if tau >= dt:
-                    break
-                converged = dt - tau <= 1e-14 * dt
-                dt = tau
-                event = arg
-                if converged:
-                    break
+        # A meniscus that would recede over the step (defending fluid never flows into a
+        # drained pore) carries no flux instead: it leaves the list (moved past n_on) and the
+        # step is redone, so the list only shrinks.
+        dt_hi = min(dt_max, t_end - t)
+        n_listed = n_on
+        while True:
+            dt, event = _landing_step(
+                dt_hi, ell0, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, area, control,
+                pinv, q_rate, capacity_now, ramp_rate, landing,
+            )  # fmt: skip
             pnew = _meniscus_terms(
                 dt, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, control, pinv, q_rate,
                 capacity_now, ramp_rate, landing,
             )  # fmt: skip
-            # No meniscus may recede (defending fluid never enters a drained pore).
-            recede = False
-            for s in range(n_on):
+            s = 0
+            removed = False
+            while s < n_on:
                 if landing[s] < 0.0:
-                    recede = True
-                    break
-            if not recede:
+                    removed = True
+                    n_on -= 1
+                    f, i = on_t[s], on_p[s]
+                    on_t[s], on_p[s] = on_t[n_on], on_p[n_on]
+                    on_t[n_on], on_p[n_on] = f, i
+                    landing[s] = landing[n_on]
+                    gsum[i] = 0.0  # rebuilt from the menisci still listed
+                    for r in range(n_on):
+                        if on_p[r] == i:
+                            gsum[i] += g_num[on_t[r]] / ell[on_t[r]]
+                else:
+                    s += 1
+            if not removed:
                 break
-            dt *= 0.5
-        else:
-            return 7
         # Apply the step: landing[s] now holds each advancing meniscus' flux.
         qsum = 0.0
         for s in range(n_on):
@@ -645,7 +751,7 @@ def explicit_advance(
             for i in range(box[0], box[1]):
                 start = i * grid_n
                 p[start + box[2] : start + box[3]] = p_next[start + box[2] : start + box[3]]
-        for s in range(n_on):
+        for s in range(n_listed):
             gsum[on_p[s]] = 0.0
         _spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
         acc[3] += qsum * dt

@@ -293,7 +293,7 @@ class ViscousDrainage(FluidModel):
                 stop.at == "breakthrough", _STEP_CHUNK,
             )  # fmt: skip
         self._sync(state)
-        if status in (3, 4, 7):
+        if status in (3, 4):
             raise NumericalError(
                 f"viscous model: {vk.STATUS[status]} at t = {state.time:g} (scaled) after "
                 f"{int(self._cnt[1])} steps and {state.n_drained} drained pores"
