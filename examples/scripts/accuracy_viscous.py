@@ -31,6 +31,7 @@ from porenet.simulation import Simulation
 #: The knobs of the explicit integrator, the values swept, and the reference value.
 KNOBS = {
     "safety_factor": ([1.0, 0.9, 0.5, 0.25], 0.05),
+    "pressure_step": ([1.0, 0.3, 0.1, 0.03], 0.01),
     "pressure_floor": ([1e-2, 1e-4, 1e-6, 1e-9], 0.0),
 }
 
@@ -130,7 +131,7 @@ def main() -> None:
         fig = Figure(figsize=(10, 3.4), dpi=130, layout="constrained")
         axes = fig.subplots(1, 3)
         for ax, metric in zip(axes, ("pattern", "breakthrough_time", "pressure"), strict=True):
-            for knob, marker in zip(KNOBS, "os", strict=False):
+            for knob, marker in zip(KNOBS, "os^", strict=False):
                 pts = [
                     (r["wall"], max(r[metric], 1e-16), r["value"])
                     for r in rows

@@ -87,6 +87,14 @@ class ViscousConfig(ModelConfig):
         description="Pressures below this magnitude, in units of gamma/a, do not spread to "
         "inactive neighbours (-). 0 lets every pressure spread (exact, slowest).",
     )
+    pressure_step: float | None = Field(
+        None,
+        gt=0,
+        description="Accuracy limit of the time step: largest change per step of the "
+        "invading pressure and of the pressures behind advancing menisci, as a fraction of "
+        "the spread of entry pressures 2 gamma (1/r_min - 1/r_max) (-). None: the stability "
+        "limit alone (fastest, least accurate; see docs/accuracy.md).",
+    )
     max_time: float | None = Field(
         None, gt=0, description="End the run at this time (s) if it has not stopped before."
     )
@@ -177,6 +185,14 @@ class ViscousDrainage(FluidModel):
         limit = float(np.min(self._vol / (degree_sum + self._g_out)))
         self.dt_stable = limit
         self._dt = cfg.safety_factor * limit
+        spread = float(np.max(self._pe) - np.min(self._pe))
+        #: Accuracy limit in gamma/a (a floor of 1 % of the mean entry pressure keeps it
+        #: finite for nearly uniform apertures).
+        self._pressure_step = (
+            math.inf
+            if cfg.pressure_step is None
+            else cfg.pressure_step * max(spread, 0.01 * float(np.mean(self._pe)))
+        )
         # Injection (scaled): Q in a^2 gamma / mu, pressures in gamma / a.
         self._control = {"rate": vk.CONTROL_RATE, "pressure": vk.CONTROL_PRESSURE,
                          "ramp": vk.CONTROL_RAMP}[cfg.control]  # fmt: skip
@@ -289,8 +305,8 @@ class ViscousDrainage(FluidModel):
                 self._acc, self._cnt, self._order, self._via, self._rtime, self._rpress,
                 self._series, self._dt, self._control, self._q, self._capacity,
                 self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
-                cfg.pressure_floor, MENISCUS_LENGTH, budget, t_end, cfg.max_steps,
-                stop.at == "breakthrough", _STEP_CHUNK,
+                cfg.pressure_floor, self._pressure_step, MENISCUS_LENGTH, budget, t_end,
+                cfg.max_steps, stop.at == "breakthrough", _STEP_CHUNK,
             )  # fmt: skip
         self._sync(state)
         if status in (3, 4):
