@@ -204,26 +204,26 @@ def ip_runs():
 
 
 def test_small_ca_reproduces_invasion_percolation_with_trapping():
-    """At Ca = 1e-4 (n = 20, lambda = 0.3) the pattern at breakthrough is IP's.
+    """At Ca = 3e-5 (n = 20, lambda = 0.3) the pattern at breakthrough is IP's.
 
     Measured Jaccard overlaps |A & B| / |A | B| with IP-with-trapping at breakthrough, seeds
-    0-5: Ca = 1e-4: 0.94, 1, 1, 1, 1, 1 (mean 0.99); Ca = 3e-5: 0.99, 1, 1, 1, 1, 1; Ca = 1e-3:
-    0.88-0.97 (mean 0.92); Ca = 1e-2: 0.28-0.76; Ca = 1e-1: 0.15-0.46 (mean 0.33). (n = 30 gives
-    the same picture, 0.97 mean at 1e-4.) At 1e-4 the few differences are near-ties in the
-    entry pressures that the finite pressure halo reorders; 0.85 per seed and 0.95 on the mean
-    allow that, and both fail well before the crossover regime (Ca >= 1e-3) is reached.
+    0-5, default settings (pressure_step 0.1): Ca = 1e-5 and 3e-5: 1, 1, 1, 1, 1, 1; Ca = 1e-4:
+    0.94, 0.89, 1, 0.97, 1, 0.99 (mean 0.96); at Ca = 1e-1 the mean is ~0.35. At 1e-4 the few
+    differences are near-ties in the entry pressures that the pressure built up behind a
+    sliding meniscus reorders (that pressure vanishes with Ca). 0.95 per seed and 0.98 on the
+    mean at 3e-5 leave room for one near-tie, and fail well before the crossover regime.
     """
     ip = ip_runs()
-    low = limit_runs(1e-4)
+    low = limit_runs(3e-5)
     high = limit_runs(1e-1)
     for a, b in zip(low, ip, strict=True):
         np.testing.assert_array_equal(a.apertures, b.apertures)  # same disorder realisation
         assert a.order[0] == b.order[0]  # same inlet
     j_low = [jaccard(a.drained, b.drained) for a, b in zip(low, ip, strict=True)]
     j_high = [jaccard(a.drained, b.drained) for a, b in zip(high, ip, strict=True)]
-    print(f"overlap with IP: Ca=1e-4 {np.round(j_low, 3)}, Ca=1e-1 {np.round(j_high, 3)}")
-    assert min(j_low) >= 0.85
-    assert np.mean(j_low) >= 0.95
+    print(f"overlap with IP: Ca=3e-5 {np.round(j_low, 3)}, Ca=1e-1 {np.round(j_high, 3)}")
+    assert min(j_low) >= 0.95
+    assert np.mean(j_low) >= 0.98
     # away from the limit the pattern departs from IP: measured mean 0.33 at Ca = 1e-1
     assert np.mean(j_high) < np.mean(j_low) - 0.3
 

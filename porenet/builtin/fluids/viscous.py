@@ -88,12 +88,12 @@ class ViscousConfig(ModelConfig):
         "inactive neighbours (-). 0 lets every pressure spread (exact, slowest).",
     )
     pressure_step: float | None = Field(
-        None,
+        0.1,
         gt=0,
         description="Accuracy limit of the time step: largest change per step of the "
         "invading pressure and of the pressures behind advancing menisci, as a fraction of "
         "the spread of entry pressures 2 gamma (1/r_min - 1/r_max) (-). None: the stability "
-        "limit alone (fastest, least accurate; see docs/accuracy.md).",
+        "limit alone (fastest, far less accurate; see docs/accuracy.md).",
     )
     max_time: float | None = Field(
         None, gt=0, description="End the run at this time (s) if it has not stopped before."
