@@ -33,6 +33,11 @@ import numpy as np
 
 from porenet.kernels._jit import njit
 
+#: The helpers of one step take the advancing menisci and the pump as two tuples:
+#: ``menisci = (on_t, on_p, p, flux, gsum, vol, g_num, ell, area)`` (the listed menisci's
+#: throats and pores, then the arrays they read) and
+#: ``pump = (control, pinv, q_rate, capacity, ramp_rate)`` (see :func:`explicit_advance`).
+
 #: Slots of the ``acc`` array of running totals (scaled units).
 ACC = {
     "time": 0,
@@ -85,45 +90,31 @@ def _other(tp: np.ndarray, drained: np.ndarray, f: int) -> int:
 
 
 @njit(helper=True)
+def _set_add(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slot: int) -> None:
+    """Add ``x`` to the indexed set ``items[:cnt[slot]]`` (``pos[x]`` its place, -1 if out)."""
+    if pos[x] < 0:
+        size = cnt[slot]
+        items[size] = x
+        pos[x] = size
+        cnt[slot] = size + 1
+
+
+@njit(helper=True)
+def _set_remove(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slot: int) -> None:
+    """Remove ``x`` from the indexed set (the last item takes its place)."""
+    s = pos[x]
+    if s >= 0:
+        last = cnt[slot] - 1
+        moved = items[last]
+        items[s] = moved
+        pos[moved] = s
+        pos[x] = -1
+        cnt[slot] = last
+
+
+@njit(helper=True)
 def _activate(j: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray) -> None:
-    if apos[j] < 0:
-        na = cnt[3]
-        act[na] = j
-        apos[j] = na
-        cnt[3] = na + 1
-
-
-@njit(helper=True)
-def _deactivate(j: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray) -> None:
-    s = apos[j]
-    if s >= 0:
-        last = cnt[3] - 1
-        moved = act[last]
-        act[s] = moved
-        apos[moved] = s
-        apos[j] = -1
-        cnt[3] = last
-
-
-@njit(helper=True)
-def _front_add(f: int, front: np.ndarray, fpos: np.ndarray, cnt: np.ndarray) -> None:
-    if fpos[f] < 0:
-        nf = cnt[2]
-        front[nf] = f
-        fpos[f] = nf
-        cnt[2] = nf + 1
-
-
-@njit(helper=True)
-def _front_remove(f: int, front: np.ndarray, fpos: np.ndarray, cnt: np.ndarray) -> None:
-    s = fpos[f]
-    if s >= 0:
-        last = cnt[2] - 1
-        moved = front[last]
-        front[s] = moved
-        fpos[moved] = s
-        fpos[f] = -1
-        cnt[2] = last
+    _set_add(j, act, apos, cnt, 3)
 
 
 @njit
@@ -169,7 +160,7 @@ def drain_pore(
     acc[7] += vol[i]
     p[i] = acc[1]
     g_out[i] = 0.0
-    _deactivate(i, act, apos, cnt)
+    _set_remove(i, act, apos, cnt, 3)
     if grid_n > 0:
         _grow_box(box, grid_n, i // grid_n, i % grid_n, 1)
     for e in range(indptr[i], indptr[i + 1]):
@@ -177,11 +168,11 @@ def drain_pore(
         t = thr[e]
         g_eff[t] = 0.0
         if drained[j]:
-            _front_remove(t, front, fpos, cnt)
+            _set_remove(t, front, fpos, cnt, 2)
         else:
             ell[t] = ell0
             latched[t] = False
-            _front_add(t, front, fpos, cnt)
+            _set_add(t, front, fpos, cnt, 2)
             _activate(j, act, apos, cnt)
     k = cnt[0]
     order[k] = i
@@ -238,30 +229,15 @@ def _pore_after(
 
 
 @njit(helper=True)
-def _meniscus_terms(
-    dt: float,
-    n_on: int,
-    on_t: np.ndarray,
-    on_p: np.ndarray,
-    p: np.ndarray,
-    flux: np.ndarray,
-    gsum: np.ndarray,
-    vol: np.ndarray,
-    g_num: np.ndarray,
-    ell: np.ndarray,
-    control: int,
-    pinv: float,
-    q_rate: float,
-    capacity: float,
-    ramp_rate: float,
-    q_out: np.ndarray,
-) -> float:
+def _meniscus_terms(dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray) -> float:
     """Solve the invader pressure after a step of ``dt`` and write each advancing meniscus'
     flux into ``q_out[:n_on]``; return the new invader pressure.
 
     Each meniscus pore's new pressure is linear in the new invader pressure,
     ``p_i' = alpha_i + beta_i p_inv'``, so the reservoir equation is one linear equation.
     """
+    on_t, on_p, p, flux, gsum, vol, g_num, ell, _area = menisci
+    control, pinv, q_rate, capacity, ramp_rate = pump
     s0 = 0.0
     s1 = 0.0
     for s in range(n_on):
@@ -279,13 +255,11 @@ def _meniscus_terms(
 
 
 @njit(helper=True)
-def _pressure_rate(
-    n_on: int, on_t: np.ndarray, on_p: np.ndarray, p: np.ndarray, flux: np.ndarray,
-    gsum: np.ndarray, vol: np.ndarray, g_num: np.ndarray, ell: np.ndarray, control: int,
-    pinv: float, q_rate: float, capacity: float, ramp_rate: float,
-) -> float:
+def _pressure_rate(n_on: int, menisci: tuple, pump: tuple) -> float:
     """``|dp_inv/dt| + max |dp_i/dt|`` over the pores behind advancing menisci, from the
     state at the start of a step (explicit estimates, for the accuracy limit of the step)."""
+    on_t, on_p, p, flux, gsum, vol, g_num, ell, _area = menisci
+    control, pinv, q_rate, capacity, ramp_rate = pump
     qsum = 0.0
     largest = 0.0
     for s in range(n_on):
@@ -302,30 +276,12 @@ def _pressure_rate(
 
 @njit(helper=True)
 def _shortest_remaining(
-    dt: float,
-    n_on: int,
-    on_t: np.ndarray,
-    on_p: np.ndarray,
-    p: np.ndarray,
-    flux: np.ndarray,
-    gsum: np.ndarray,
-    vol: np.ndarray,
-    g_num: np.ndarray,
-    ell: np.ndarray,
-    area: np.ndarray,
-    control: int,
-    pinv: float,
-    q_rate: float,
-    capacity: float,
-    ramp_rate: float,
-    q_out: np.ndarray,
+    dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray
 ) -> tuple[float, int]:
     """After a step of ``dt``: the smallest remaining meniscus length ``l - q dt / A`` among
     the advancing menisci, and its index in ``on_t`` (``inf, -1`` if none advances)."""
-    _meniscus_terms(
-        dt, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, control, pinv, q_rate, capacity,
-        ramp_rate, q_out,
-    )  # fmt: skip
+    on_t, ell, area = menisci[0], menisci[7], menisci[8]
+    _meniscus_terms(dt, n_on, menisci, pump, q_out)
     shortest = np.inf
     arg = -1
     for s in range(n_on):
@@ -339,24 +295,7 @@ def _shortest_remaining(
 
 @njit(helper=True)
 def _landing_step(
-    dt_hi: float,
-    ell0: float,
-    n_on: int,
-    on_t: np.ndarray,
-    on_p: np.ndarray,
-    p: np.ndarray,
-    flux: np.ndarray,
-    gsum: np.ndarray,
-    vol: np.ndarray,
-    g_num: np.ndarray,
-    ell: np.ndarray,
-    area: np.ndarray,
-    control: int,
-    pinv: float,
-    q_rate: float,
-    capacity: float,
-    ramp_rate: float,
-    q_out: np.ndarray,
+    dt_hi: float, ell0: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray
 ) -> tuple[float, int]:
     """The step: ``dt_hi`` if no advancing meniscus lands within it, else the first landing.
 
@@ -366,10 +305,8 @@ def _landing_step(
     length. Returns ``(dt, index in on_t of the landing meniscus or -1)``; at that ``dt``
     the landing meniscus is within ``1e-14 l0`` of 0 (it may be a hair past it, never short).
     """
-    phi_hi, arg = _shortest_remaining(
-        dt_hi, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, area, control, pinv, q_rate,
-        capacity, ramp_rate, q_out,
-    )  # fmt: skip
+    on_t, ell = menisci[0], menisci[7]
+    phi_hi, arg = _shortest_remaining(dt_hi, n_on, menisci, pump, q_out)
     if phi_hi > 0.0:
         return dt_hi, -1
     lo, phi_lo = 0.0, np.inf
@@ -384,10 +321,7 @@ def _landing_step(
         mid = hi - w_hi * (hi - lo) / (w_hi - w_lo)
         if not lo < mid < hi:
             mid = 0.5 * (lo + hi)
-        phi_mid, arg_mid = _shortest_remaining(
-            mid, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, area, control, pinv,
-            q_rate, capacity, ramp_rate, q_out,
-        )  # fmt: skip
+        phi_mid, arg_mid = _shortest_remaining(mid, n_on, menisci, pump, q_out)
         if phi_mid > 0.0:
             lo, w_lo = mid, phi_mid
             if side == -1:
@@ -731,24 +665,18 @@ def explicit_advance(
         # A meniscus that would recede over the step (defending fluid never flows into a
         # drained pore) carries no flux instead: it leaves the list (moved past n_on) and the
         # step is redone, so the list only shrinks.
+        # The advancing menisci and the pump, as the step's helpers see them.
+        menisci = (on_t, on_p, p, flux, gsum, vol, g_num, ell, area)
+        pump = (control, pinv, q_rate, capacity_now, ramp_rate)
         dt_hi = min(dt_max, t_end - t)
         if pressure_step < np.inf:
-            rate = _pressure_rate(
-                n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, control, pinv, q_rate,
-                capacity_now, ramp_rate,
-            )  # fmt: skip
+            rate = _pressure_rate(n_on, menisci, pump)
             if rate * dt_hi > pressure_step:
                 dt_hi = pressure_step / rate
         n_listed = n_on
         while True:
-            dt, event = _landing_step(
-                dt_hi, ell0, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, area, control,
-                pinv, q_rate, capacity_now, ramp_rate, landing,
-            )  # fmt: skip
-            pnew = _meniscus_terms(
-                dt, n_on, on_t, on_p, p, flux, gsum, vol, g_num, ell, control, pinv, q_rate,
-                capacity_now, ramp_rate, landing,
-            )  # fmt: skip
+            dt, event = _landing_step(dt_hi, ell0, n_on, menisci, pump, landing)
+            pnew = _meniscus_terms(dt, n_on, menisci, pump, landing)
             s = 0
             removed = False
             while s < n_on:

@@ -20,6 +20,22 @@ def _length_unit(length_m: float) -> tuple[str, float]:
     return "nm", 1e-9
 
 
+def grid_axes(data: RunData, ax: Axes | None) -> tuple[Figure, Axes, tuple, str]:
+    """A figure and axes for a map of a grid lattice (new ones unless ``ax`` is given), the
+    image extent in a readable length unit, and that unit."""
+    from matplotlib.figure import Figure
+
+    if ax is None:
+        fig = Figure(figsize=(5.6, 4.8), dpi=150, layout="constrained")
+        ax = fig.add_subplot()
+    else:
+        fig = ax.figure  # type: ignore[assignment]
+    rows, cols = data.grid_shape  # type: ignore[misc]
+    side = 2.0 * data.pore_size
+    unit, factor = _length_unit(max(rows, cols) * side)
+    return fig, ax, (0.0, cols * side / factor, rows * side / factor, 0.0), unit
+
+
 def plot_pattern(
     data: RunData, ax: Axes | None = None, cmap: str = "viridis", title: str | None = None
 ) -> Figure:
@@ -37,22 +53,14 @@ def plot_pattern(
         Defaults to a description of the scene.
     """
     from matplotlib.colors import ListedColormap
-    from matplotlib.figure import Figure
 
     if data.grid_shape is None:
         raise ValueError("plot_pattern needs a lattice with a grid layout")
-    rows, cols = data.grid_shape
+    rows = data.grid_shape[0]
     step = data.drainage_step().astype(float)
     step[step < 0] = np.nan
     image = data.as_grid(step)
-    if ax is None:
-        fig = Figure(figsize=(5.6, 4.8), dpi=150, layout="constrained")
-        ax = fig.add_subplot()
-    else:
-        fig = ax.figure  # type: ignore[assignment]
-    side = 2.0 * data.pore_size
-    unit, factor = _length_unit(max(rows, cols) * side)
-    extent = (0.0, cols * side / factor, rows * side / factor, 0.0)
+    fig, ax, extent, unit = grid_axes(data, ax)
     trapped = data.as_grid(data.trapped & ~data.drained).astype(float)
     trapped[trapped == 0] = np.nan
     ax.imshow(trapped, cmap=ListedColormap(["0.75"]), extent=extent, interpolation="nearest")

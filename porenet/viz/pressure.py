@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from porenet.viz.pattern import _length_unit
+from porenet.viz.pattern import grid_axes
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -63,21 +63,12 @@ def plot_pressure_halo(
         A perceptually uniform colour map.
     title : str, optional
     """
-    from matplotlib.figure import Figure
-
     if data.grid_shape is None:
         raise ValueError("plot_pressure_halo needs a lattice with a grid layout")
     ratio, p_inv = pressure_ratio(data, snapshot)
     rows, cols = data.grid_shape
     image = np.log10(np.clip(ratio, floor, None)).reshape(rows, cols)
-    if ax is None:
-        fig = Figure(figsize=(5.6, 4.8), dpi=150, layout="constrained")
-        ax = fig.add_subplot()
-    else:
-        fig = ax.figure  # type: ignore[assignment]
-    side = 2.0 * data.pore_size
-    unit, factor = _length_unit(max(rows, cols) * side)
-    extent = (0.0, cols * side / factor, rows * side / factor, 0.0)
+    fig, ax, extent, unit = grid_axes(data, ax)
     im = ax.imshow(
         image, cmap=cmap, extent=extent, interpolation="nearest", vmin=np.log10(floor), vmax=0.0
     )
