@@ -255,10 +255,15 @@ def _meniscus_terms(dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np
 
 
 @njit(helper=True)
-def _pressure_rate(n_on: int, menisci: tuple, pump: tuple) -> float:
+def _pressure_rate(n_on: int, menisci: tuple, pump: tuple, ell0: float) -> float:
     """``|dp_inv/dt| + max |dp_i/dt|`` over the pores behind advancing menisci, from the
-    state at the start of a step (explicit estimates, for the accuracy limit of the step)."""
-    on_t, on_p, p, flux, gsum, vol, g_num, ell, _area = menisci
+    state at the start of a step (explicit estimates, for the accuracy limit of the step).
+
+    A meniscus' push into its pore is estimated with its conductance at full length
+    ``A k / l0``: its real conductance ``A k / l`` grows without bound as it lands, which
+    would shrink the steps geometrically before every landing (the landing itself is an
+    exact event, and the implicit treatment keeps the pore stable)."""
+    on_t, on_p, p, flux, _gsum, vol, g_num, ell, _area = menisci
     control, pinv, q_rate, capacity, ramp_rate = pump
     qsum = 0.0
     largest = 0.0
@@ -266,7 +271,7 @@ def _pressure_rate(n_on: int, menisci: tuple, pump: tuple) -> float:
         i = on_p[s]
         q = g_num[on_t[s]] / ell[on_t[s]] * (pinv - p[i])
         qsum += q
-        largest = max(largest, abs(flux[i] + gsum[i] * (pinv - p[i])) / vol[i])
+        largest = max(largest, abs(flux[i] + g_num[on_t[s]] / ell0 * (pinv - p[i])) / vol[i])
     if control == CONTROL_RATE:
         return abs(q_rate - qsum) / capacity + largest
     if control == CONTROL_RAMP:
@@ -670,7 +675,7 @@ def explicit_advance(
         pump = (control, pinv, q_rate, capacity_now, ramp_rate)
         dt_hi = min(dt_max, t_end - t)
         if pressure_step < np.inf:
-            rate = _pressure_rate(n_on, menisci, pump)
+            rate = _pressure_rate(n_on, menisci, pump, ell0)
             if rate * dt_hi > pressure_step:
                 dt_hi = pressure_step / rate
         n_listed = n_on
