@@ -144,4 +144,12 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     gamma = getattr(scene.fluid, "interfacial_tension", None)
     if gamma is not None and pore_size is not None:
         numbers["capillary pressure gamma/a (Pa)"] = float(gamma) / float(pore_size)
+    ca = getattr(scene.fluid, "capillary_number", None)
+    if ca is not None:
+        numbers["Ca"] = float(ca)
+        if lam is not None and n is not None and 0 < float(lam) < 1:
+            disorder = float(lam) / (1.0 - float(lam) ** 2)
+            # Ca* ~ 1 is the CF/VF crossover (Fig. 2); L_x is the crossover length in pores
+            numbers["Ca* = Ca (L/a) / [lambda/(1-lambda^2)]"] = float(ca) * float(n) / disorder
+            numbers["crossover length L_x / a"] = disorder / float(ca)
     return numbers

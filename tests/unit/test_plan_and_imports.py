@@ -56,3 +56,19 @@ def test_wall_time_includes_the_build(scene_dict):
     sim = Simulation.from_scene(scene_dict)
     result = sim.run()
     assert result.summary["wall_time_s"] >= sim.build_time > 0
+
+
+def test_viscous_scene_plans_a_pressure_solve_and_reports_ca_star():
+    scene = {
+        "lattice": {"n": 400, "disorder": 0.3, "pore_size": 1e-7},
+        "fluid": {"kind": "viscous", "capillary_number": 9e-4},
+    }
+    reg = get_registry()
+    plan = make_plan(load_scene(scene), reg)
+    assert plan.effects["viscous_dissipation"] is True
+    assert not plan.builds("solid")
+    # Fig. 1b sits at the CF/VF crossover: Ca* = 9e-4 * 400 / (0.3 / 0.91) = 1.092
+    ca_star = plan.numbers["Ca* = Ca (L/a) / [lambda/(1-lambda^2)]"]
+    assert abs(ca_star - 9e-4 * 400 / (0.3 / (1 - 0.09))) < 1e-12
+    sim = Simulation(plan, reg)
+    assert type(sim.fluid).solves_pressure is True and sim.solid is None
