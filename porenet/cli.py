@@ -40,7 +40,8 @@ def _add_scene_args(p: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="override a dotted key of the scene, e.g. --set lattice.n=64 (repeatable)",
+        help="override a dotted key of the scene, e.g. --set lattice.n=64 (repeatable); "
+        "an empty VALUE removes the key (its default applies)",
     )
 
 
@@ -61,6 +62,13 @@ def cmd_run(args: argparse.Namespace) -> int:
             f"({100 * s['drained_fraction']:.2f} %), trapped {100 * s['trapped_fraction']:.2f} %, "
             f"{s['wall_time_s']:.3f} s"
         )
+        if s.get("capillary_number_measured") is not None:
+            t_end = result.data.invasion_time[-1] if result.data.invasion_time is not None else 0
+            print(
+                f"  model time {t_end:.4g} s, {s['time_steps']} steps, Ca measured "
+                f"{s['capillary_number_measured']:.4g} (requested {s['capillary_number']:.4g}), "
+                f"volume balance {s['volume_balance_error']:.1e}"
+            )
         print(f"run file: {result.path}")
     if args.plot:
         from porenet.viz.pattern import save_figure

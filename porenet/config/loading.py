@@ -42,10 +42,16 @@ def read_toml(path: str | Path) -> dict[str, Any]:
         raise ConfigError(f"{path}: not a text file: {exc}") from None
 
 
+#: The value of an override that removes its key (``--set KEY=``).
+UNSET = object()
+
+
 def parse_override(item: str) -> tuple[list[str], Any]:
     """Split ``"lattice.n=64"`` into ``(["lattice", "n"], 64)``; values are TOML literals.
 
-    A value that is not a TOML literal (``--set name=run1``) is taken as a string.
+    A value that is not a TOML literal (``--set name=run1``) is taken as a string. An empty
+    value (``--set fluid.capillary_number=``) removes the key, so the field takes its default
+    (TOML has no null).
     """
     key, sep, raw = item.partition("=")
     key = key.strip()
@@ -53,6 +59,8 @@ def parse_override(item: str) -> tuple[list[str], Any]:
         raise ConfigError(
             f"--set {item!r}: expected KEY=VALUE with a dotted KEY, e.g. lattice.n=64"
         )
+    if not raw.strip():
+        return key.split("."), UNSET
     try:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
@@ -71,7 +79,10 @@ def apply_overrides(data: dict[str, Any], overrides: list[str] | tuple[str, ...]
             if not isinstance(child, dict):
                 raise ConfigError(f"--set {item!r}: {part!r} is not a table")
             node = child
-        node[path[-1]] = value
+        if value is UNSET:
+            node.pop(path[-1], None)
+        else:
+            node[path[-1]] = value
     return data
 
 

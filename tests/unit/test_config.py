@@ -155,3 +155,15 @@ def test_parse_override_types():
     assert parse_override("a=true") == (["a"], True)
     assert parse_override("a=plain") == (["a"], "plain")
     assert apply_overrides({"a": {"b": 1}}, ["a.c=2"]) == {"a": {"b": 1, "c": 2}}
+
+
+def test_an_empty_override_restores_the_default():
+    data = {"fluid": {"kind": "viscous", "capillary_number": 1e-3}}
+    out = apply_overrides(
+        data,
+        ["fluid.capillary_number=", "fluid.control=pressure", "fluid.injection_pressure=2e6"],
+    )
+    assert "capillary_number" not in out["fluid"] and data["fluid"]["capillary_number"] == 1e-3
+    scene = load_scene({"lattice": {"n": 10, "disorder": 0.3}} | out)
+    assert scene.fluid.capillary_number is None and scene.fluid.control == "pressure"
+    assert apply_overrides({"a": 1}, ["b.c="]) == {"a": 1, "b": {}}  # nothing to remove
