@@ -153,84 +153,9 @@ class ViscousDrainage(FluidModel):
 
         lat, cfg, sc = self.lattice, self.config, self.context.scales
         at = self.context.injection.at
-        n, m = lat.n_pores, lat.n_throats
-        indptr, nbr, thr = lat.adjacency
-        self._csr = (
-            np.asarray(indptr, np.int64),
-            np.asarray(nbr, np.int64),
-            np.asarray(thr, np.int64),
-        )
-        self._tp = np.ascontiguousarray(lat.throat_pores, dtype=np.int64)
-        c_area, c_perm = lat.throat_factors
-        r = np.asarray(state.apertures, dtype=np.float64)
-        area = c_area * r**2
-        g_num = area * c_perm * r**2
-        self._area, self._g_num = area, g_num
-        self._g_eff = g_num / MENISCUS_LENGTH  # zeroed for throats touching drained pores
-        self._pe = 2.0 / r
-        self._vol = np.ascontiguousarray(lat.pore_volumes, dtype=np.float64)
-        links = lat.outlet_links(at)
-        r_out = lat.mean_aperture
-        self._g_out = links * c_area * c_perm * r_out**4  # half throats of length a
-        self._outlet = np.ascontiguousarray(lat.outlet_mask(at), dtype=bool)
-        # Canonical square grids are swept as a stencil over a growing box of active pores.
-        self._grid_n = int(lat.grid_shape[0]) if lat.canonical_grid else 0
-        self._box = np.zeros(4, dtype=np.int64)
-        self._box[[0, 2]] = self._grid_n
-        #: Boundary cross-section A_b / a^2 (4 L a for centre injection).
-        self.cross_section = float(links.sum())
-        degree_sum = np.zeros(n)
-        np.add.at(degree_sum, self._tp[:, 0], self._g_eff)
-        np.add.at(degree_sum, self._tp[:, 1], self._g_eff)
-        limit = float(np.min(self._vol / (degree_sum + self._g_out)))
-        self.dt_stable = limit
-        self._dt = cfg.safety_factor * limit
-        spread = float(np.max(self._pe) - np.min(self._pe))
-        #: Accuracy limit in gamma/a (a floor of 1 % of the mean entry pressure keeps it
-        #: finite for nearly uniform apertures).
-        self._pressure_step = (
-            math.inf
-            if cfg.pressure_step is None
-            else cfg.pressure_step * max(spread, 0.01 * float(np.mean(self._pe)))
-        )
-        # Injection (scaled): Q in a^2 gamma / mu, pressures in gamma / a.
-        self._control = {"rate": vk.CONTROL_RATE, "pressure": vk.CONTROL_PRESSURE,
-                         "ramp": vk.CONTROL_RAMP}[cfg.control]  # fmt: skip
-        if cfg.capillary_number is not None:
-            self._q = cfg.capillary_number * self.cross_section
-        elif cfg.injection_rate is not None:
-            self._q = cfg.injection_rate * cfg.viscosity / (sc.length**2 * cfg.interfacial_tension)
-        else:
-            self._q = 0.0
-        mean_volume = float(np.mean(self._vol))
-        self._capacity = mean_volume if cfg.reservoir == "pore" else 0.0
-        self._capacity_per_drained = 1.0 if cfg.reservoir == "drained" else 0.0
-        assert sc.time is not None
-        self._ramp = 0.0 if cfg.ramp_rate is None else cfg.ramp_rate * sc.time / sc.pressure
-        # State.
-        self._p = np.zeros(n)
-        state.pressure = self._p
-        self._ell = np.full(m, MENISCUS_LENGTH)
-        state.meniscus_length = self._ell
-        self._latched = np.zeros(m, dtype=bool)
-        self._front = np.zeros(m, dtype=np.int64)
-        self._fpos = np.full(m, -1, dtype=np.int64)
-        self._act = np.zeros(n, dtype=np.int64)
-        self._apos = np.full(n, -1, dtype=np.int64)
-        self._flux = np.zeros(n)
-        self._gsum = np.zeros(n)
-        self._p_next = np.zeros(n)
-        self._on_t = np.zeros(m, dtype=np.int64)
-        self._on_p = np.zeros(m, dtype=np.int64)
-        self._landing = np.zeros(m)
-        self._acc = np.zeros(vk.N_ACC)
-        self._acc[vk.ACC["invading_pressure"]] = cfg.injection_pressure / sc.pressure
-        self._cnt = np.zeros(vk.N_CNT, dtype=np.int64)
-        self._order = np.zeros(n, dtype=np.int64)
-        self._via = np.zeros(n, dtype=np.int64)
-        self._rtime = np.zeros(n)
-        self._rpress = np.zeros(n)
-        self._series = np.zeros((n, len(vk.SERIES)))
+        self._conductances(state)
+        self._injection()
+        self._allocate(state)
         for inlet in lat.inlet_pores(at):
             vk.drain_pore(
                 int(inlet), -1, *self._csr, self._vol, MENISCUS_LENGTH, self._g_eff,
@@ -241,13 +166,99 @@ class ViscousDrainage(FluidModel):
             )  # fmt: skip
         self._status = -1
         self._synced = 0
-        stop_saturations = sorted(cfg.snapshot_saturations)
-        self._pending_saturations = [math.ceil(s * n) for s in stop_saturations]
+        self._pending_saturations = [
+            math.ceil(s * lat.n_pores) for s in sorted(cfg.snapshot_saturations)
+        ]
         self._pending_times = sorted(t / sc.time for t in cfg.snapshot_times)
         self._t_end = math.inf if cfg.max_time is None else cfg.max_time / sc.time
         self.snapshots: list[dict[str, Any]] = []
         self._sync(state)
         self._check_step_count(state)
+
+    def _conductances(self, state: State) -> None:
+        """Throat, pore and outlet properties from the apertures, the stable step and the
+        accuracy limit (scaled units)."""
+        lat, cfg = self.lattice, self.config
+        at = self.context.injection.at
+        indptr, nbr, thr = lat.adjacency
+        self._csr = (
+            np.asarray(indptr, np.int64),
+            np.asarray(nbr, np.int64),
+            np.asarray(thr, np.int64),
+        )
+        self._tp = np.ascontiguousarray(lat.throat_pores, dtype=np.int64)
+        c_area, c_perm = lat.throat_factors
+        r = np.asarray(state.apertures, dtype=np.float64)
+        self._area = c_area * r**2
+        self._g_num = self._area * c_perm * r**2  # A k: meniscus conductance times length
+        self._g_eff = self._g_num / MENISCUS_LENGTH  # zeroed for throats touching drained pores
+        self._pe = 2.0 / r
+        self._vol = np.ascontiguousarray(lat.pore_volumes, dtype=np.float64)
+        links = lat.outlet_links(at)
+        self._g_out = links * c_area * c_perm * lat.mean_aperture**4  # half throats, length a
+        self._outlet = np.ascontiguousarray(lat.outlet_mask(at), dtype=bool)
+        #: Boundary cross-section A_b / a^2 (4 L a for centre injection).
+        self.cross_section = float(links.sum())
+        # Canonical square grids are swept as a stencil over a growing box of active pores.
+        self._grid_n = int(lat.grid_shape[0]) if lat.canonical_grid else 0
+        self._box = np.zeros(4, dtype=np.int64)
+        self._box[[0, 2]] = self._grid_n  # empty: grows as pores drain
+        degree_sum = np.zeros(lat.n_pores)
+        np.add.at(degree_sum, self._tp[:, 0], self._g_eff)
+        np.add.at(degree_sum, self._tp[:, 1], self._g_eff)
+        self.dt_stable = float(np.min(self._vol / (degree_sum + self._g_out)))
+        self._dt = cfg.safety_factor * self.dt_stable
+        spread = float(np.max(self._pe) - np.min(self._pe))
+        #: Accuracy limit in gamma/a (a floor of 1 % of the mean entry pressure keeps it
+        #: finite for nearly uniform apertures).
+        self._pressure_step = (
+            math.inf
+            if cfg.pressure_step is None
+            else cfg.pressure_step * max(spread, 0.01 * float(np.mean(self._pe)))
+        )
+
+    def _injection(self) -> None:
+        """Control, rate (a^2 gamma / mu), reservoir compliance and ramp (scaled)."""
+        from porenet.kernels import viscous as vk
+
+        cfg, sc = self.config, self.context.scales
+        if sc.time is None:  # pragma: no cover - the config always has a viscosity
+            raise ValueError("the viscous model needs a viscosity")
+        self._control = {"rate": vk.CONTROL_RATE, "pressure": vk.CONTROL_PRESSURE,
+                         "ramp": vk.CONTROL_RAMP}[cfg.control]  # fmt: skip
+        if cfg.capillary_number is not None:
+            self._q = cfg.capillary_number * self.cross_section
+        elif cfg.injection_rate is not None:
+            self._q = cfg.injection_rate * cfg.viscosity / (sc.length**2 * cfg.interfacial_tension)
+        else:
+            self._q = 0.0
+        self._capacity = float(np.mean(self._vol)) if cfg.reservoir == "pore" else 0.0
+        self._capacity_per_drained = 1.0 if cfg.reservoir == "drained" else 0.0
+        self._ramp = 0.0 if cfg.ramp_rate is None else cfg.ramp_rate * sc.time / sc.pressure
+
+    def _allocate(self, state: State) -> None:
+        """The model's state, scratch and record arrays; the State shares the first two."""
+        from porenet.kernels import viscous as vk
+
+        n, m = self.lattice.n_pores, self.lattice.n_throats
+        self._p = np.zeros(n)
+        state.pressure = self._p
+        self._ell = np.full(m, MENISCUS_LENGTH)
+        state.meniscus_length = self._ell
+        self._latched = np.zeros(m, dtype=bool)
+        self._front, self._fpos = np.zeros(m, dtype=np.int64), np.full(m, -1, dtype=np.int64)
+        self._act, self._apos = np.zeros(n, dtype=np.int64), np.full(n, -1, dtype=np.int64)
+        self._flux, self._gsum, self._p_next = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._on_t, self._on_p = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64)
+        self._landing = np.zeros(m)
+        self._acc = np.zeros(vk.N_ACC)
+        self._acc[vk.ACC["invading_pressure"]] = (
+            self.config.injection_pressure / self.context.scales.pressure
+        )
+        self._cnt = np.zeros(vk.N_CNT, dtype=np.int64)
+        self._order, self._via = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
+        self._rtime, self._rpress = np.zeros(n), np.zeros(n)
+        self._series = np.zeros((n, len(vk.SERIES)))
 
     def _check_step_count(self, state: State) -> None:
         """Fail at once, saying why, when the run cannot reach breakthrough within max_steps.
