@@ -18,13 +18,17 @@ bound as ``l -> 0``; a small C makes the reservoir stiff). The pore-to-pore part
 ``dt <= min_i V_i / (sum_j g_ij + g_out,i)``; the implicit part is unconditionally stable, so the
 meniscus and reservoir terms never limit the step. Every flux is computed once and used for both
 sides, so the volume balances close to round-off (see :data:`ACC`). A step that would take a
-meniscus past ``l = 0`` is shortened so that the first one lands exactly on 0 (a monotone
-fixed-point iteration on the step length), and the pore drains at that instant.
+meniscus past ``l = 0`` is shortened so that the first one lands exactly on 0 (bracketed
+regula falsi on the step length), and the pore drains at that instant.
 
 Pressure spreads only through the *active* pores: undrained pores next to a meniscus or next to
 an active pore whose pressure exceeds ``floor`` in magnitude. Fluxes to inactive pores are
 neglected (they are below ``g * floor``), which keeps the cost proportional to the region the
 pressure has reached, not to the lattice, and keeps the balances exact.
+
+This module holds the step loop, the drainage events and the bookkeeping; the menisci and the
+pump over one step are in :mod:`porenet.kernels.menisci`, the pressure diffusion over the
+active pores in :mod:`porenet.kernels.diffusion`.
 """
 
 from __future__ import annotations
@@ -32,11 +36,24 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit
-
-#: The helpers of one step take the advancing menisci and the pump as two tuples:
-#: ``menisci = (on_t, on_p, p, flux, gsum, vol, g_num, ell, area)`` (the listed menisci's
-#: throats and pores, then the arrays they read) and
-#: ``pump = (control, pinv, q_rate, capacity, ramp_rate)`` (see :func:`explicit_advance`).
+from porenet.kernels.diffusion import (
+    activate,
+    csr_fluxes,
+    csr_update,
+    grid_flux,
+    grid_sweep,
+    grow_box,
+    set_add,
+    spread,
+)
+from porenet.kernels.menisci import (
+    CONTROL_PRESSURE,
+    CONTROL_RATE,
+    landing_step,
+    meniscus_terms,
+    pore_after,
+    pressure_rate,
+)
 
 #: Slots of the ``acc`` array of running totals (scaled units).
 ACC = {
@@ -79,24 +96,12 @@ STATUS = {
     6: "stationary",
 }
 
-CONTROL_RATE, CONTROL_PRESSURE, CONTROL_RAMP = 0, 1, 2
-
 
 @njit(helper=True)
 def _other(tp: np.ndarray, drained: np.ndarray, f: int) -> int:
     """The undrained pore of frontier throat ``f``."""
     a = tp[f, 0]
     return tp[f, 1] if drained[a] else a
-
-
-@njit(helper=True)
-def _set_add(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slot: int) -> None:
-    """Add ``x`` to the indexed set ``items[:cnt[slot]]`` (``pos[x]`` its place, -1 if out)."""
-    if pos[x] < 0:
-        size = cnt[slot]
-        items[size] = x
-        pos[x] = size
-        cnt[slot] = size + 1
 
 
 @njit(helper=True)
@@ -110,11 +115,6 @@ def _set_remove(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slo
         pos[moved] = s
         pos[x] = -1
         cnt[slot] = last
-
-
-@njit(helper=True)
-def _activate(j: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray) -> None:
-    _set_add(j, act, apos, cnt, 3)
 
 
 @njit
@@ -162,7 +162,7 @@ def drain_pore(
     g_out[i] = 0.0
     _set_remove(i, act, apos, cnt, 3)
     if grid_n > 0:
-        _grow_box(box, grid_n, i // grid_n, i % grid_n, 1)
+        grow_box(box, grid_n, i // grid_n, i % grid_n, 1)
     for e in range(indptr[i], indptr[i + 1]):
         j = nbr[e]
         t = thr[e]
@@ -172,8 +172,8 @@ def drain_pore(
         else:
             ell[t] = ell0
             latched[t] = False
-            _set_add(t, front, fpos, cnt, 2)
-            _activate(j, act, apos, cnt)
+            set_add(t, front, fpos, cnt, 2)
+            activate(j, act, apos, cnt)
     k = cnt[0]
     order[k] = i
     via[k] = f
@@ -188,332 +188,6 @@ def drain_pore(
     series[k, 6] = acc[6]
     series[k, 7] = k + 1
     cnt[0] = k + 1
-
-
-@njit(helper=True)
-def _invader_pressure(
-    control: int,
-    pinv: float,
-    dt: float,
-    q_rate: float,
-    capacity: float,
-    ramp_rate: float,
-    s0: float,
-    s1: float,
-) -> float:
-    """``p_inv`` at the end of a step of length ``dt`` (backward Euler for the reservoir).
-
-    With the meniscus fluxes ``sum q = s1 p_inv' - s0`` (linear in the new invader pressure),
-    rate control solves ``C (p' - p) = dt (Q - sum q)``.
-    """
-    if control == CONTROL_RATE:
-        return (capacity * pinv + dt * (q_rate + s0)) / (capacity + dt * s1)
-    if control == CONTROL_RAMP:
-        return pinv + ramp_rate * dt
-    return pinv
-
-
-@njit(helper=True)
-def _pore_after(
-    dt: float,
-    i: int,
-    p: np.ndarray,
-    flux: np.ndarray,
-    gsum: np.ndarray,
-    vol: np.ndarray,
-    pnew: float,
-) -> float:
-    """Pressure of pore ``i`` after a step: explicit fluxes, implicit menisci."""
-    w = dt * gsum[i] / vol[i]
-    return (p[i] + dt * flux[i] / vol[i] + w * pnew) / (1.0 + w)
-
-
-@njit(helper=True)
-def _meniscus_terms(dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray) -> float:
-    """Solve the invader pressure after a step of ``dt`` and write each advancing meniscus'
-    flux into ``q_out[:n_on]``; return the new invader pressure.
-
-    Each meniscus pore's new pressure is linear in the new invader pressure,
-    ``p_i' = alpha_i + beta_i p_inv'``, so the reservoir equation is one linear equation.
-    """
-    on_t, on_p, p, flux, gsum, vol, g_num, ell, _area = menisci
-    control, pinv, q_rate, capacity, ramp_rate = pump
-    s0 = 0.0
-    s1 = 0.0
-    for s in range(n_on):
-        i = on_p[s]
-        w = dt * gsum[i] / vol[i]
-        g = g_num[on_t[s]] / ell[on_t[s]]
-        s0 += g * (p[i] + dt * flux[i] / vol[i]) / (1.0 + w)
-        s1 += g / (1.0 + w)
-    pnew = _invader_pressure(control, pinv, dt, q_rate, capacity, ramp_rate, s0, s1)
-    for s in range(n_on):
-        i = on_p[s]
-        f = on_t[s]
-        q_out[s] = g_num[f] / ell[f] * (pnew - _pore_after(dt, i, p, flux, gsum, vol, pnew))
-    return pnew
-
-
-@njit(helper=True)
-def _pressure_rate(n_on: int, menisci: tuple, pump: tuple, ell0: float) -> float:
-    """``|dp_inv/dt| + max |dp_i/dt|`` over the pores behind advancing menisci, from the
-    state at the start of a step (explicit estimates, for the accuracy limit of the step).
-
-    A meniscus' push into its pore is estimated with its conductance at full length
-    ``A k / l0``: its real conductance ``A k / l`` grows without bound as it lands, which
-    would shrink the steps geometrically before every landing (the landing itself is an
-    exact event, and the implicit treatment keeps the pore stable)."""
-    on_t, on_p, p, flux, _gsum, vol, g_num, ell, _area = menisci
-    control, pinv, q_rate, capacity, ramp_rate = pump
-    qsum = 0.0
-    largest = 0.0
-    for s in range(n_on):
-        i = on_p[s]
-        q = g_num[on_t[s]] / ell[on_t[s]] * (pinv - p[i])
-        qsum += q
-        largest = max(largest, abs(flux[i] + g_num[on_t[s]] / ell0 * (pinv - p[i])) / vol[i])
-    if control == CONTROL_RATE:
-        return abs(q_rate - qsum) / capacity + largest
-    if control == CONTROL_RAMP:
-        return abs(ramp_rate) + largest
-    return largest
-
-
-@njit(helper=True)
-def _shortest_remaining(
-    dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray
-) -> tuple[float, int]:
-    """After a step of ``dt``: the smallest remaining meniscus length ``l - q dt / A`` among
-    the advancing menisci, and its index in ``on_t`` (``inf, -1`` if none advances)."""
-    on_t, ell, area = menisci[0], menisci[7], menisci[8]
-    _meniscus_terms(dt, n_on, menisci, pump, q_out)
-    shortest = np.inf
-    arg = -1
-    for s in range(n_on):
-        f = on_t[s]
-        remaining = ell[f] - q_out[s] * dt / area[f]
-        if remaining < shortest:
-            shortest = remaining
-            arg = s
-    return shortest, arg
-
-
-@njit(helper=True)
-def _landing_step(
-    dt_hi: float, ell0: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray
-) -> tuple[float, int]:
-    """The step: ``dt_hi`` if no advancing meniscus lands within it, else the first landing.
-
-    The smallest remaining length after a step of ``dt``, ``phi(dt)``, is continuous with
-    ``phi(0) > 0``; if ``phi(dt_hi) <= 0`` its first root is bracketed and found by regula
-    falsi (Illinois variant) to ``1e-14`` relative in the step or ``1e-14 l0`` in the
-    length. Returns ``(dt, index in on_t of the landing meniscus or -1)``; at that ``dt``
-    the landing meniscus is within ``1e-14 l0`` of 0 (it may be a hair past it, never short).
-    """
-    on_t, ell = menisci[0], menisci[7]
-    phi_hi, arg = _shortest_remaining(dt_hi, n_on, menisci, pump, q_out)
-    if phi_hi > 0.0:
-        return dt_hi, -1
-    lo, phi_lo = 0.0, np.inf
-    for s in range(n_on):
-        phi_lo = min(phi_lo, ell[on_t[s]])
-    hi = dt_hi
-    w_lo, w_hi = phi_lo, phi_hi  # secant weights (halved on a repeated side: Illinois)
-    side = 0
-    for _ in range(200):
-        if hi - lo <= 1e-14 * hi or -phi_hi <= 1e-14 * ell0:
-            break
-        mid = hi - w_hi * (hi - lo) / (w_hi - w_lo)
-        if not lo < mid < hi:
-            mid = 0.5 * (lo + hi)
-        phi_mid, arg_mid = _shortest_remaining(mid, n_on, menisci, pump, q_out)
-        if phi_mid > 0.0:
-            lo, w_lo = mid, phi_mid
-            if side == -1:
-                w_hi *= 0.5
-            side = -1
-        else:
-            hi, phi_hi, w_hi, arg = mid, phi_mid, phi_mid, arg_mid
-            if side == 1:
-                w_lo *= 0.5
-            side = 1
-    return hi, arg
-
-
-@njit(helper=True)
-def _fluxes(
-    na: int,
-    act: np.ndarray,
-    apos: np.ndarray,
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    thr: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    p: np.ndarray,
-    flux: np.ndarray,
-) -> None:
-    """Generic lattices: explicit flux into each active pore ``act[:na]`` (neighbours counted
-    only while active, so what one pore gains its neighbour loses)."""
-    for s in range(na):
-        i = act[s]
-        pi = p[i]
-        total = -g_out[i] * pi
-        for e in range(indptr[i], indptr[i + 1]):
-            j = nbr[e]
-            if apos[j] >= 0:
-                total += g_eff[thr[e]] * (p[j] - pi)
-        flux[i] = total
-
-
-@njit(helper=True)
-def _update(
-    na: int,
-    act: np.ndarray,
-    dt: float,
-    pnew: float,
-    p: np.ndarray,
-    flux: np.ndarray,
-    gsum: np.ndarray,
-    vol: np.ndarray,
-    g_out: np.ndarray,
-) -> tuple[float, float, float]:
-    """Generic lattices: advance the active pores (explicit fluxes, implicit menisci); return
-    the change of stored volume, the outflow rate (from the pressures at the start of the
-    step) and the largest ``|dp/dt|`` from the explicit fluxes."""
-    stored = 0.0
-    out = 0.0
-    largest = 0.0
-    for s in range(na):
-        i = act[s]
-        pi = p[i]
-        pn = _pore_after(dt, i, p, flux, gsum, vol, pnew)
-        out += g_out[i] * pi
-        stored += vol[i] * (pn - pi)
-        largest = max(largest, abs(flux[i]) / vol[i])
-        p[i] = pn
-    return stored, out, largest
-
-
-@njit(helper=True)
-def _grid_flux(
-    n: int, box: np.ndarray, k: int, p: np.ndarray, g_eff: np.ndarray, g_out: np.ndarray
-) -> float:
-    """Canonical n x n grids: explicit flux into pore ``k`` from its neighbours inside the box
-    of active pores (rows ``[box[0], box[1])``, columns ``[box[2], box[3])``) and from the
-    outlet; the same terms as :func:`_sweep_grid`."""
-    i = k // n
-    j = k - i * n
-    pk = p[k]
-    vertical = n * (n - 1)
-    total = -g_out[k] * pk
-    if j > box[2]:
-        total += g_eff[i * (n - 1) + j - 1] * (p[k - 1] - pk)
-    if j < box[3] - 1:
-        total += g_eff[i * (n - 1) + j] * (p[k + 1] - pk)
-    if i > box[0]:
-        total += g_eff[vertical + k - n] * (p[k - n] - pk)
-    if i < box[1] - 1:
-        total += g_eff[vertical + k] * (p[k + n] - pk)
-    return total
-
-
-@njit(helper=True)
-def _sweep_grid(
-    n: int,
-    box: np.ndarray,
-    dt: float,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    vol: np.ndarray,
-    p: np.ndarray,
-    p_next: np.ndarray,
-) -> tuple[float, float, float]:
-    """Canonical n x n grids: forward Euler for every pore of the box of active pores, from
-    ``p`` into ``p_next``, in one pass (throats in canonical order: horizontal (i,j)-(i,j+1)
-    is ``i (n-1) + j``, vertical (i,j)-(i+1,j) is ``n (n-1) + i n + j``). A throat touching
-    a drained pore has ``g_eff = 0`` and a drained pore ``g_out = 0``, so drained pores keep
-    their value with no test. Each pore gathers its own throat fluxes; ``g (p_j - p_i)`` and
-    ``g (p_i - p_j)`` are exact negatives in floating point, so what one pore gains its
-    neighbour loses, to the bit. Returns the change of stored volume, the outflow rate and
-    the largest ``|dp/dt|``."""
-    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
-    vertical = n * (n - 1)
-    stored = 0.0
-    out = 0.0
-    largest = 0.0
-    for i in range(i0, i1):
-        row = i * n
-        h = i * (n - 1) - row  # throat (i, j)-(i, j+1) is h + k for pore k = row + j
-        first, last = row + j0, row + j1 - 1
-        up, down = i > i0, i < i1 - 1
-        for k in range(first, last + 1):
-            pk = p[k]
-            total = -g_out[k] * pk
-            if k > first:
-                total += g_eff[h + k - 1] * (p[k - 1] - pk)
-            if k < last:
-                total += g_eff[h + k] * (p[k + 1] - pk)
-            if up:
-                total += g_eff[vertical + k - n] * (p[k - n] - pk)
-            if down:
-                total += g_eff[vertical + k] * (p[k + n] - pk)
-            rate = total / vol[k]
-            pn = pk + dt * rate
-            p_next[k] = pn
-            out += g_out[k] * pk
-            stored += vol[k] * (pn - pk)
-            largest = max(largest, abs(rate))
-    return stored, out, largest
-
-
-@njit(helper=True)
-def _grow_box(box: np.ndarray, n: int, i: int, j: int, margin: int) -> None:
-    """Extend the box to hold pore (i, j) and ``margin`` pores around it (within the grid)."""
-    box[0] = min(box[0], max(i - margin, 0))
-    box[1] = max(box[1], min(i + margin + 1, n))
-    box[2] = min(box[2], max(j - margin, 0))
-    box[3] = max(box[3], min(j + margin + 1, n))
-
-
-@njit(helper=True)
-def _spread(
-    grid_n: int,
-    box: np.ndarray,
-    na: int,
-    act: np.ndarray,
-    apos: np.ndarray,
-    cnt: np.ndarray,
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    drained: np.ndarray,
-    p: np.ndarray,
-    floor: float,
-) -> None:
-    """Activate the undrained neighbours of active pores whose ``|p|`` exceeds ``floor``
-    (on grids: grow the box by one row or column where its edge exceeds it)."""
-    if grid_n == 0:
-        for s in range(na):
-            i = act[s]
-            if abs(p[i]) > floor:
-                for e in range(indptr[i], indptr[i + 1]):
-                    j = nbr[e]
-                    if apos[j] < 0 and not drained[j]:
-                        _activate(j, act, apos, cnt)
-        return
-    n = grid_n
-    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
-    top = bottom = left = right = False
-    for j in range(j0, j1):
-        top |= abs(p[i0 * n + j]) > floor
-        bottom |= abs(p[(i1 - 1) * n + j]) > floor
-    for i in range(i0, i1):
-        left |= abs(p[i * n + j0]) > floor
-        right |= abs(p[i * n + j1 - 1]) > floor
-    box[0] = max(i0 - 1, 0) if top else i0
-    box[1] = min(i1 + 1, n) if bottom else i1
-    box[2] = max(j0 - 1, 0) if left else j0
-    box[3] = min(j1 + 1, n) if right else j1
 
 
 @njit
@@ -604,7 +278,7 @@ def explicit_advance(
     dt_max : float
         Largest step (the stability limit times the safety factor).
     control : int
-        :data:`CONTROL_RATE`, :data:`CONTROL_PRESSURE` or :data:`CONTROL_RAMP`.
+        ``CONTROL_RATE``, ``_PRESSURE`` or ``_RAMP`` of :mod:`porenet.kernels.menisci`.
     q_rate, capacity, capacity_per_drained, ramp_rate : float
         Injection rate; reservoir compliance ``C = capacity + capacity_per_drained * V_drained``;
         ``dp_inv/dt`` of a ramp.
@@ -644,7 +318,7 @@ def explicit_advance(
         pinv = acc[1]
         capacity_now = capacity + capacity_per_drained * acc[7]
         if grid_n == 0:
-            _fluxes(na, act, apos, indptr, nbr, thr, g_eff, g_out, p, flux)
+            csr_fluxes(na, act, apos, indptr, nbr, thr, g_eff, g_out, p, flux)
         # Which menisci advance (decided at the start of the step): on_t[:n_on], on_p[:n_on].
         n_on = 0
         for s in range(nf):
@@ -663,7 +337,7 @@ def explicit_advance(
                 n_on += 1
         if grid_n > 0:  # the grid sweep needs the explicit fluxes of the meniscus pores only
             for s in range(n_on):
-                flux[on_p[s]] = _grid_flux(grid_n, box, on_p[s], p, g_eff, g_out)
+                flux[on_p[s]] = grid_flux(grid_n, box, on_p[s], p, g_eff, g_out)
         if n_on == 0 and control == CONTROL_PRESSURE and last_rate * dt_max <= floor:
             return 6
         # Step length: the stability limit, the end time, and the first meniscus to land on 0.
@@ -675,13 +349,13 @@ def explicit_advance(
         pump = (control, pinv, q_rate, capacity_now, ramp_rate)
         dt_hi = min(dt_max, t_end - t)
         if pressure_step < np.inf:
-            rate = _pressure_rate(n_on, menisci, pump, ell0)
+            rate = pressure_rate(n_on, menisci, pump, ell0)
             if rate * dt_hi > pressure_step:
                 dt_hi = pressure_step / rate
         n_listed = n_on
         while True:
-            dt, event = _landing_step(dt_hi, ell0, n_on, menisci, pump, landing)
-            pnew = _meniscus_terms(dt, n_on, menisci, pump, landing)
+            dt, event = landing_step(dt_hi, ell0, n_on, menisci, pump, landing)
+            pnew = meniscus_terms(dt, n_on, menisci, pump, landing)
             s = 0
             removed = False
             while s < n_on:
@@ -708,12 +382,12 @@ def explicit_advance(
             qsum += q
             ell[f] = 0.0 if s == event else ell[f] - q * dt / area[f]
         if grid_n == 0:
-            stored, out, last_rate = _update(na, act, dt, pnew, p, flux, gsum, vol, g_out)
+            stored, out, last_rate = csr_update(na, act, dt, pnew, p, flux, gsum, vol, g_out)
         else:
-            stored, out, last_rate = _sweep_grid(grid_n, box, dt, g_eff, g_out, vol, p, p_next)
+            stored, out, last_rate = grid_sweep(grid_n, box, dt, g_eff, g_out, vol, p, p_next)
             for s in range(n_on):  # meniscus pores: implicit in the meniscus fluxes
                 i = on_p[s]
-                implicit = _pore_after(dt, i, p, flux, gsum, vol, pnew)
+                implicit = pore_after(dt, i, p, flux, gsum, vol, pnew)
                 stored += vol[i] * (implicit - p_next[i])
                 p_next[i] = implicit
             for i in range(box[0], box[1]):
@@ -721,7 +395,7 @@ def explicit_advance(
                 p[start + box[2] : start + box[3]] = p_next[start + box[2] : start + box[3]]
         for s in range(n_listed):
             gsum[on_p[s]] = 0.0
-        _spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
+        spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
         acc[3] += qsum * dt
         acc[4] += stored
         acc[5] += out * dt

@@ -219,13 +219,13 @@ class ViscousDrainage(FluidModel):
 
     def _injection(self) -> None:
         """Control, rate (a^2 gamma / mu), reservoir compliance and ramp (scaled)."""
-        from porenet.kernels import viscous as vk
+        from porenet.kernels import menisci as mk
 
         cfg, sc = self.config, self.context.scales
         if sc.time is None:  # pragma: no cover - the config always has a viscosity
             raise ValueError("the viscous model needs a viscosity")
-        self._control = {"rate": vk.CONTROL_RATE, "pressure": vk.CONTROL_PRESSURE,
-                         "ramp": vk.CONTROL_RAMP}[cfg.control]  # fmt: skip
+        self._control = {"rate": mk.CONTROL_RATE, "pressure": mk.CONTROL_PRESSURE,
+                         "ramp": mk.CONTROL_RAMP}[cfg.control]  # fmt: skip
         if cfg.capillary_number is not None:
             self._q = cfg.capillary_number * self.cross_section
         elif cfg.injection_rate is not None:
