@@ -15,7 +15,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 def _length_unit(length_m: float) -> tuple[str, float]:
     for unit, factor in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
-        if length_m >= 10 * factor:
+        if length_m >= factor:
             return unit, factor
     return "nm", 1e-9
 
