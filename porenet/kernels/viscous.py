@@ -142,8 +142,6 @@ def drain_pore(
     cnt: np.ndarray,
     order: np.ndarray,
     via: np.ndarray,
-    rtime: np.ndarray,
-    rpress: np.ndarray,
     series: np.ndarray,
 ) -> None:
     """Drain pore ``i`` through throat ``f`` (-1 for an inlet) at the current time.
@@ -177,8 +175,6 @@ def drain_pore(
     k = cnt[0]
     order[k] = i
     via[k] = f
-    rtime[k] = acc[0]
-    rpress[k] = acc[1]
     series[k, 0] = acc[0]
     series[k, 1] = acc[1]
     series[k, 2] = acc[2]
@@ -223,8 +219,6 @@ def explicit_advance(
     cnt: np.ndarray,
     order: np.ndarray,
     via: np.ndarray,
-    rtime: np.ndarray,
-    rpress: np.ndarray,
     series: np.ndarray,
     dt_max: float,
     control: int,
@@ -274,7 +268,8 @@ def explicit_advance(
         ``gsum`` (the meniscus conductances into each pore) must be zero on entry and is
         left zero.
     acc, cnt : running totals (:data:`ACC`) and counters (:data:`CNT`), updated in place.
-    order, via, rtime, rpress, series : records, appended at ``cnt[0]`` by :func:`drain_pore`.
+    order, via, series : records, appended at ``cnt[0]`` by :func:`drain_pore` (the drainage
+        time and invading pressure of each event are ``series[:, 0]`` and ``series[:, 1]``).
     dt_max : float
         Largest step (the stability limit times the safety factor).
     control : int
@@ -425,8 +420,7 @@ def explicit_advance(
                     continue
                 drain_pore(
                     i, f, indptr, nbr, thr, vol, ell0, g_eff, g_out, grid_n, box, p, drained,
-                    ell, latched, front, fpos, act, apos, acc, cnt, order, via, rtime, rpress,
-                    series,
+                    ell, latched, front, fpos, act, apos, acc, cnt, order, via, series,
                 )  # fmt: skip
                 events += 1
                 if outlet[i]:

@@ -61,7 +61,7 @@ class ViscousConfig(ModelConfig):
         0.0,
         ge=0,
         description="Invading pressure (Pa): the fixed value for 'pressure' control, the "
-        "starting value for 'ramp'; rate control starts from 0.",
+        "starting value for 'ramp' and for 'rate' control (default 0).",
     )
     ramp_rate: float | None = Field(None, gt=0, description="d p_inv / dt of a 'ramp' (Pa/s).")
     meniscus: Literal["threshold", "latching"] = Field(
@@ -161,9 +161,11 @@ class ViscousDrainage(FluidModel):
                 int(inlet), -1, *self._csr, self._vol, MENISCUS_LENGTH, self._g_eff,
                 self._g_out, self._grid_n, self._box, self._p, state.drained,
                 self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
-                self._acc, self._cnt, self._order, self._via, self._rtime, self._rpress,
+                self._acc, self._cnt, self._order, self._via,
                 self._series,
             )  # fmt: skip
+        if self._outlet[state.drained].any():  # an inlet on the outlet: breakthrough at once
+            self._cnt[5] = 1
         self._status = -1
         self._synced = 0
         self._pending_saturations = [
@@ -257,7 +259,6 @@ class ViscousDrainage(FluidModel):
         )
         self._cnt = np.zeros(vk.N_CNT, dtype=np.int64)
         self._order, self._via = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
-        self._rtime, self._rpress = np.zeros(n), np.zeros(n)
         self._series = np.zeros((n, len(vk.SERIES)))
 
     def _check_step_count(self, state: State) -> None:
@@ -313,7 +314,7 @@ class ViscousDrainage(FluidModel):
                 self._g_out, self._outlet, self._grid_n, self._box, self._p, state.drained,
                 self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
                 self._flux, self._gsum, self._p_next, self._on_t, self._on_p, self._landing,
-                self._acc, self._cnt, self._order, self._via, self._rtime, self._rpress,
+                self._acc, self._cnt, self._order, self._via,
                 self._series, self._dt, self._control, self._q, self._capacity,
                 self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
                 cfg.pressure_floor, self._pressure_step, MENISCUS_LENGTH, budget, t_end,
@@ -346,15 +347,13 @@ class ViscousDrainage(FluidModel):
         k = int(self._cnt[0])
         start = self._synced
         if k > start:
-            state.record.extend(
-                self._order[start:k], self._via[start:k], self._rpress[start:k],
-                self._rtime[start:k],
-            )  # fmt: skip
+            rows = self._series[start:k]  # columns 0, 1: time and invading pressure
+            state.record.extend(self._order[start:k], self._via[start:k], rows[:, 1], rows[:, 0])
             self._synced = k
         state.n_drained = k
         state.time = float(self._acc[0])
         state.invading_pressure = float(self._acc[1])
-        state.breakthrough = bool(self._cnt[5]) or bool(self._outlet[state.drained].any())
+        state.breakthrough = bool(self._cnt[5])
         state.step = int(self._cnt[1])
 
     def _all_trapped(self, state: State) -> bool:
@@ -385,13 +384,8 @@ class ViscousDrainage(FluidModel):
 
     @property
     def stop_reason(self) -> str | None:
-        from porenet.kernels import viscous as vk
-
-        if self._status < 0:
-            return None
-        return {2: "max_time", 6: "stationary"}.get(
-            self._status, "complete" if self._status == 5 else vk.STATUS[self._status]
-        )
+        # _status is set only to 2 (end time), 5 (nothing left to invade) or 6 (stationary)
+        return {-1: None, 2: "max_time", 5: "complete", 6: "stationary"}[self._status]
 
     def finalize(self, state: State) -> None:
         from porenet.kernels import ip
@@ -444,9 +438,14 @@ class ViscousDrainage(FluidModel):
         """Largest relative volume imbalance over the run: the two balances of
         :meth:`balance_errors` now, and their sum (injected = stored + outflow + released) at
         every drainage event."""
-        rows = self.timeseries()
-        scale = np.maximum(np.maximum(np.abs(rows["injected"]), np.abs(rows["drained"])), 1e-300)
-        combined = rows["injected"] - rows["stored"] - rows["outflow"] - rows["released"]
+        from porenet.kernels import viscous as vk
+
+        rows = self._series[: int(self._cnt[0])]
+        col = {name: c for c, name in enumerate(vk.SERIES)}
+        injected, drained = rows[:, col["injected"]], rows[:, col["drained"]]
+        scale = np.maximum(np.maximum(np.abs(injected), np.abs(drained)), 1e-300)
+        combined = injected - rows[:, col["stored"]] - rows[:, col["outflow"]]
+        combined -= rows[:, col["released"]]
         worst = float(np.max(np.abs(combined) / scale)) if combined.size else 0.0
         return max(worst, *self.balance_errors())
 
