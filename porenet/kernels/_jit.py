@@ -35,10 +35,11 @@ def njit(func: Callable[..., Any] | None = None, *, helper: bool = False) -> Any
     """``numba.njit(cache=True, nogil=True)`` when numba is available, else identity.
 
     ``@njit(helper=True)`` marks a small helper that takes arrays but allocates nothing: it is
-    compiled without numba's reference counting (``_nrt=False``). A helper that writes into
-    its array arguments is otherwise not optimised into its caller, and every call from a loop
-    pays atomic reference-count updates on each array (measured: 16 ns per call against 0.2 ns
-    inlined, for a 3-array helper in a 10^4-pore loop).
+    compiled without numba's reference counting (``_nrt=False``). Called from a loop, such a
+    helper that writes into its array arguments sometimes is not optimised into its caller
+    and costs ~16 ns per call instead of ~0.2 ns; without reference counting it never did in
+    our measurements (``tests/benchmarks/bench_numba_helpers.py``, where renaming the
+    parameters alone switches the slow case on and off).
     """
     if func is None:
         return lambda f: njit(f, helper=helper)

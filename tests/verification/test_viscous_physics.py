@@ -235,11 +235,10 @@ def test_small_ca_reproduces_invasion_percolation_with_trapping():
     strict=True,
     raises=AssertionError,
     reason="not reproduced yet (issue 3 left open): the drained fraction at breakthrough grows "
-    "with Ca instead of falling (n=100, lambda=0.3, 3 seeds, safety_factor 0.25: IP 0.104, "
-    "Ca=1e-3 0.112, 1e-2 0.127, 1e-1 0.213). At Ca=1e-2 the n=150 pattern is thin and "
-    "branched (mass-radius D_f 1.73 vs 1.77 for IP, one sample each); at Ca=1e-1 it is the "
-    "lattice-aligned dendrite the paper mentions for high Ca (D_f 1.87). Needs D_f ensembles "
-    "at n=400 (issue 5's analysis) to settle",
+    "with Ca instead of falling (python examples/scripts/viscous_vs_ca.py fraction: n=100, "
+    "lambda=0.3, 3 seeds: IP 0.104, Ca=1e-3 0.109, 1e-2 0.129, 1e-1 0.160), although the "
+    "mass-radius exponent of single patterns falls (viscous_vs_ca.py df, n=150: IP 1.77, "
+    "Ca=1e-2 1.69, 1e-1 1.71). Needs D_f ensembles at n=400 (issue 5's analysis) to settle",
 )
 def test_higher_ca_gives_thinner_fingers():
     """Viscous fingering (Ca* = Ca (L/a) / [lambda / (1 - lambda^2)] >> 1, here Ca* ~ 6 at

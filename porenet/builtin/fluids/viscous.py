@@ -92,8 +92,8 @@ class ViscousConfig(ModelConfig):
         gt=0,
         description="Accuracy limit of the time step: largest change per step of the "
         "invading pressure and of the pressures behind advancing menisci, as a fraction of "
-        "the spread of entry pressures 2 gamma (1/r_min - 1/r_max) (-). None: the stability "
-        "limit alone (fastest, far less accurate; see docs/accuracy.md).",
+        "the spread of entry pressures 2 gamma (1/r_min - 1/r_max) (-). inf (None from "
+        "Python): the stability limit alone (fastest, far less accurate; docs/accuracy.md).",
     )
     max_time: float | None = Field(
         None, gt=0, description="End the run at this time (s) if it has not stopped before."
