@@ -31,7 +31,9 @@ except ImportError:  # pragma: no cover - numba is a core dependency
     log.warning("numba is not importable: porenet's kernels run as plain Python (slow)")
 
 
-def njit(func: Callable[..., Any] | None = None, *, helper: bool = False) -> Any:
+def njit(
+    func: Callable[..., Any] | None = None, *, helper: bool = False, reassociate: bool = False
+) -> Any:
     """``numba.njit(cache=True, nogil=True)`` when numba is available, else identity.
 
     ``@njit(helper=True)`` marks a small helper that takes arrays but allocates nothing: it is
@@ -40,14 +42,23 @@ def njit(func: Callable[..., Any] | None = None, *, helper: bool = False) -> Any
     and costs ~16 ns per call instead of ~0.2 ns; without reference counting it never did in
     our measurements (``tests/benchmarks/bench_numba_helpers.py``, where renaming the
     parameters alone switches the slow case on and off).
+
+    ``reassociate=True`` lets the compiler reorder floating-point sums (``fastmath`` flags
+    ``reassoc`` and ``nsz`` only: no fused multiply-add, no assumptions about NaN or
+    infinity), which is what lets a loop with a running sum use SIMD instructions. The sums
+    then differ from the sequential ones in the last bits; use it only for reductions whose
+    order carries no meaning.
     """
     if func is None:
-        return lambda f: njit(f, helper=helper)
+        return lambda f: njit(f, helper=helper, reassociate=reassociate)
     if not HAVE_NUMBA:
         return func
+    options: dict[str, Any] = {"cache": True, "nogil": True}
     if helper:
-        return numba.njit(cache=True, nogil=True, _nrt=False)(func)
-    return numba.njit(cache=True, nogil=True)(func)
+        options["_nrt"] = False
+    if reassociate:
+        options["fastmath"] = {"reassoc", "nsz"}
+    return numba.njit(**options)(func)
 
 
 def _prefetch_py(array: np.ndarray, index: int) -> None:

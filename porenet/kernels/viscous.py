@@ -41,6 +41,7 @@ from porenet.kernels.diffusion import (
     csr_fluxes,
     csr_update,
     grid_flux,
+    grid_largest_rate,
     grid_sweep,
     grow_box,
     set_add,
@@ -49,10 +50,10 @@ from porenet.kernels.diffusion import (
 from porenet.kernels.menisci import (
     CONTROL_PRESSURE,
     CONTROL_RATE,
+    invader_pressure,
     landing_step,
-    meniscus_terms,
     pore_after,
-    pressure_rate,
+    step_change,
 )
 
 #: Slots of the ``acc`` array of running totals (scaled units).
@@ -115,6 +116,28 @@ def _set_remove(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slo
         pos[moved] = s
         pos[x] = -1
         cnt[slot] = last
+
+
+@njit(helper=True)
+def _list_meniscus(
+    f: int,
+    i: int,
+    c: float,
+    n_on: int,
+    on_t: np.ndarray,
+    on_p: np.ndarray,
+    c_on: np.ndarray,
+    head: np.ndarray,
+    nxt: np.ndarray,
+) -> int:
+    """Append meniscus ``f`` into pore ``i`` with threshold ``c`` to the step's candidates
+    (and to pore ``i``'s links); return the new count."""
+    on_t[n_on] = f
+    on_p[n_on] = i
+    c_on[n_on] = c
+    nxt[n_on] = head[i]
+    head[i] = n_on
+    return n_on + 1
 
 
 @njit
@@ -265,8 +288,7 @@ def explicit_advance(
         Frontier throats (``front[:cnt[2]]``, ``fpos`` their slots or -1) and active pores
         (``act[:cnt[3]]``, ``apos`` likewise).
     flux, gsum, p_next, on_t, on_p, landing : scratch, shapes (N,), (N,), (N,), (M,), (M,), (M,)
-        ``gsum`` (the meniscus conductances into each pore) must be zero on entry and is
-        left zero.
+        ``gsum`` is not used (kept for the caller's signature).
     acc, cnt : running totals (:data:`ACC`) and counters (:data:`CNT`), updated in place.
     order, via, series : records, appended at ``cnt[0]`` by :func:`drain_pore` (the drainage
         time and invading pressure of each event are ``series[:, 0]`` and ``series[:, 1]``).
@@ -283,9 +305,9 @@ def explicit_advance(
     floor : float
         Pressure magnitude above which a pore activates its neighbours.
     pressure_step : float
-        Accuracy limit on the step: the invading pressure and the pressures of the pores
-        behind advancing menisci may change by about this much per step (estimated from the
-        rates at the start of the step), so that menisci start and stop near their
+        Accuracy limit on the step: the invading pressure and the pressure difference across
+        each candidate meniscus change by at most this much per step (checked on the solved
+        step, which is redone shorter if needed), so that menisci start near their
         thresholds. ``inf`` leaves only the stability limit.
     ell0 : float
         Length of a new meniscus (2).
@@ -297,7 +319,13 @@ def explicit_advance(
     """
     events = 0
     steps_at_entry = cnt[1]
+    inv_vol = 1.0 / vol  # the grid sweep multiplies (a division per pore would dominate it)
+    # The candidate menisci of a step: thresholds, and per-pore links (head[i] -> nxt ...).
+    c_on = np.empty(len(on_t))
+    nxt = np.empty(len(on_t), dtype=np.int64)
+    head = np.full(len(p), -1, dtype=np.int64)
     last_rate = np.inf  # largest |dp/dt| of the last step (for the stationarity test)
+    dt_next = dt_max  # the step the accuracy limit predicts
     while True:
         if events >= max_events or cnt[1] - steps_at_entry >= step_budget:
             return 0
@@ -312,84 +340,103 @@ def explicit_advance(
         na = cnt[3]
         pinv = acc[1]
         capacity_now = capacity + capacity_per_drained * acc[7]
+        dt_hi = min(dt_max, t_end - t)
         if grid_n == 0:
             csr_fluxes(na, act, apos, indptr, nbr, thr, g_eff, g_out, p, flux)
-        # Which menisci advance (decided at the start of the step): on_t[:n_on], on_p[:n_on].
+        # The candidate menisci of the step, on_t[:n_on] into pores on_p[:n_on] with
+        # thresholds c_on: those that may flow by its end (menisci.py: each one flows, slides
+        # on its threshold or stops, by the end-of-step pressures). Rule "latching": a
+        # meniscus that has ever exceeded its entry pressure, with threshold 0 from then on.
+        # Rule "threshold": first those at or above their entry pressure (a sliding one sits
+        # on it); then those within reach of it as the invading pressure rises over the step
+        # (to what it would reach with the first ones alone).
+        menisci = (on_t, on_p, c_on, head, nxt, p, flux, vol, g_num, ell, area)
+        pump = (control, pinv, q_rate, capacity_now, ramp_rate)
         n_on = 0
         for s in range(nf):
             f = front[s]
             i = _other(tp, drained, f)
             d = pinv - p[i]
-            go = d > pe[f]
             if latching:
-                if go:
+                if d > pe[f]:
                     latched[f] = True
-                go = latched[f] and d > 0.0
-            if go:
-                gsum[i] += g_num[f] / ell[f]
-                on_t[n_on] = f
-                on_p[n_on] = i
-                n_on += 1
+                listed, c = latched[f], 0.0
+            else:
+                listed, c = d > pe[f] * (1.0 - 1e-9), pe[f]
+            if listed:
+                n_on = _list_meniscus(f, i, c, n_on, on_t, on_p, c_on, head, nxt)
+        n_sure = n_on
         if grid_n > 0:  # the grid sweep needs the explicit fluxes of the meniscus pores only
             for s in range(n_on):
                 flux[on_p[s]] = grid_flux(grid_n, box, on_p[s], p, g_eff, g_out)
-        if n_on == 0 and control == CONTROL_PRESSURE and last_rate * dt_max <= floor:
+        if not latching and control != CONTROL_PRESSURE:
+            rise = invader_pressure(dt_hi, n_on, menisci, pump) - pinv
+            for s in range(nf):
+                f = front[s]
+                i = _other(tp, drained, f)
+                d = pinv - p[i]
+                if pe[f] - rise < d <= pe[f] * (1.0 - 1e-9):
+                    n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
+            if grid_n > 0:
+                for s in range(n_sure, n_on):
+                    flux[on_p[s]] = grid_flux(grid_n, box, on_p[s], p, g_eff, g_out)
+        if control == CONTROL_PRESSURE and last_rate * dt_max <= floor:
             return 6
-        # Step length: the stability limit, the end time, and the first meniscus to land on 0.
-        # A meniscus that would recede over the step (defending fluid never flows into a
-        # drained pore) carries no flux instead: it leaves the list (moved past n_on) and the
-        # step is redone, so the list only shrinks.
-        # The advancing menisci and the pump, as the step's helpers see them.
-        menisci = (on_t, on_p, p, flux, gsum, vol, g_num, ell, area)
-        pump = (control, pinv, q_rate, capacity_now, ramp_rate)
-        dt_hi = min(dt_max, t_end - t)
-        if pressure_step < np.inf:
-            rate = pressure_rate(n_on, menisci, pump, ell0)
-            if rate * dt_hi > pressure_step:
-                dt_hi = pressure_step / rate
-        n_listed = n_on
+        # Step length: the stability limit, the end time, the accuracy limit, and the first
+        # meniscus to land on 0.
+        # The accuracy limit is checked on the solved step, before the pressures are swept:
+        # a step that changes the invading pressure or a pressure difference across a
+        # candidate meniscus by more than pressure_step is redone shorter; the next step is
+        # predicted from the last one's rate of change.
+        dt_hi = min(dt_hi, dt_next)
         while True:
-            dt, event = landing_step(dt_hi, ell0, n_on, menisci, pump, landing)
-            pnew = meniscus_terms(dt, n_on, menisci, pump, landing)
-            s = 0
-            removed = False
-            while s < n_on:
-                if landing[s] < 0.0:
-                    removed = True
-                    n_on -= 1
-                    f, i = on_t[s], on_p[s]
-                    on_t[s], on_p[s] = on_t[n_on], on_p[n_on]
-                    on_t[n_on], on_p[n_on] = f, i
-                    landing[s] = landing[n_on]
-                    gsum[i] = 0.0  # rebuilt from the menisci still listed
-                    for r in range(n_on):
-                        if on_p[r] == i:
-                            gsum[i] += g_num[on_t[r]] / ell[on_t[r]]
-                else:
-                    s += 1
-            if not removed:
+            dt, event, pnew = landing_step(dt_hi, ell0, n_on, menisci, pump, landing)
+            change = step_change(dt, pnew, n_on, menisci, pinv)
+            if not change > pressure_step:  # (a NaN ends the loop; it is reported below)
                 break
-        # Apply the step: landing[s] now holds each advancing meniscus' flux.
+            dt_hi = 0.9 * dt * pressure_step / change
+        dt_next = dt_max if change == 0.0 else max(dt, 0.9 * dt * pressure_step / change)
+        if grid_n == 0:
+            stored, out, largest = csr_update(na, act, dt, p, p_next, flux, vol, g_out)
+        else:
+            stored, out = grid_sweep(grid_n, box, dt, g_eff, g_out, vol, inv_vol, p, p_next)
+            largest = 0.0
+        for s in range(n_on):  # meniscus pores: implicit in the meniscus fluxes
+            i = on_p[s]
+            if head[i] == s:  # each pore once
+                implicit = pore_after(i, pnew, dt, menisci)
+                stored += vol[i] * (implicit - p_next[i])
+                p_next[i] = implicit
+        # A pressure-controlled run is stationary once no pressure changes and no meniscus
+        # moves by more than the floor per step (the largest |dp/dt| and meniscus flux per
+        # pore volume); not needed otherwise, and on grids it costs a pass over the box.
+        last_rate = np.inf
+        if control == CONTROL_PRESSURE:
+            if grid_n > 0:
+                largest = grid_largest_rate(grid_n, box, dt, p, p_next)
+            for s in range(n_on):
+                i = on_p[s]
+                largest = max(largest, abs(p_next[i] - p[i]) / dt, landing[s] / vol[i])
+            last_rate = largest
+        # Advance the menisci: landing[s] holds each candidate's flux (0 if stopped).
         qsum = 0.0
         for s in range(n_on):
             f = on_t[s]
             q = landing[s]
             qsum += q
-            ell[f] = 0.0 if s == event else ell[f] - q * dt / area[f]
+            if s == event:
+                ell[f] = 0.0
+            elif q > 0.0:
+                ell[f] -= q * dt / area[f]
         if grid_n == 0:
-            stored, out, last_rate = csr_update(na, act, dt, pnew, p, flux, gsum, vol, g_out)
+            for s in range(na):
+                p[act[s]] = p_next[act[s]]
         else:
-            stored, out, last_rate = grid_sweep(grid_n, box, dt, g_eff, g_out, vol, p, p_next)
-            for s in range(n_on):  # meniscus pores: implicit in the meniscus fluxes
-                i = on_p[s]
-                implicit = pore_after(dt, i, p, flux, gsum, vol, pnew)
-                stored += vol[i] * (implicit - p_next[i])
-                p_next[i] = implicit
             for i in range(box[0], box[1]):
                 start = i * grid_n
                 p[start + box[2] : start + box[3]] = p_next[start + box[2] : start + box[3]]
-        for s in range(n_listed):
-            gsum[on_p[s]] = 0.0
+        for s in range(n_on):
+            head[on_p[s]] = -1
         spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
         acc[3] += qsum * dt
         acc[4] += stored

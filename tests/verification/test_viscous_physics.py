@@ -204,24 +204,26 @@ def ip_runs():
 
 
 def test_small_ca_reproduces_invasion_percolation_with_trapping():
-    """At Ca = 3e-5 (n = 20, lambda = 0.3) the pattern at breakthrough is IP's.
+    """At Ca = 1e-5 (n = 20, lambda = 0.3) the pattern at breakthrough is IP's.
 
-    Measured Jaccard overlaps |A & B| / |A | B| with IP-with-trapping at breakthrough, seeds
-    0-5, default settings (pressure_step 0.1): Ca = 1e-5 and 3e-5: 1, 1, 1, 1, 1, 1; Ca = 1e-4:
-    0.94, 0.89, 1, 0.97, 1, 0.99 (mean 0.96); at Ca = 1e-1 the mean is ~0.35. At 1e-4 the few
-    differences are near-ties in the entry pressures that the pressure built up behind a
-    sliding meniscus reorders (that pressure vanishes with Ca). 0.95 per seed and 0.98 on the
-    mean at 3e-5 leave room for one near-tie, and fail well before the crossover regime.
+    Measured Jaccard overlaps |A & B| / |A | B| with IP-with-trapping at breakthrough, default
+    settings: Ca = 1e-5, seeds 0-5: 1, 1, 1, 1, 1, 1 (also Ca = 3e-6, seed 0). At Ca = 3e-5
+    the converged dynamic pattern already departs from IP by a near-tie or two (seeds 0 and
+    3: 0.938 and 0.985, the same at pressure_step 0.1, 0.01 and 0.001 with safety_factor
+    0.2): the pressure that a sliding meniscus builds up in the pore it enters lets a
+    neighbouring meniscus with a slightly higher entry pressure start. That pressure vanishes
+    with Ca. At Ca = 1e-1 the mean overlap is ~0.33. 0.95 per seed and 0.98 on the mean leave
+    room for one near-tie and fail well before the crossover regime.
     """
     ip = ip_runs()
-    low = limit_runs(3e-5)
+    low = limit_runs(1e-5)
     high = limit_runs(1e-1)
     for a, b in zip(low, ip, strict=True):
         np.testing.assert_array_equal(a.apertures, b.apertures)  # same disorder realisation
         assert a.order[0] == b.order[0]  # same inlet
     j_low = [jaccard(a.drained, b.drained) for a, b in zip(low, ip, strict=True)]
     j_high = [jaccard(a.drained, b.drained) for a, b in zip(high, ip, strict=True)]
-    print(f"overlap with IP: Ca=3e-5 {np.round(j_low, 3)}, Ca=1e-1 {np.round(j_high, 3)}")
+    print(f"overlap with IP: Ca=1e-5 {np.round(j_low, 3)}, Ca=1e-1 {np.round(j_high, 3)}")
     assert min(j_low) >= 0.95
     assert np.mean(j_low) >= 0.98
     # away from the limit the pattern departs from IP: measured mean 0.33 at Ca = 1e-1
@@ -232,13 +234,13 @@ def test_small_ca_reproduces_invasion_percolation_with_trapping():
 
 
 @pytest.mark.xfail(
-    strict=True,
+    strict=False,
     raises=AssertionError,
-    reason="not reproduced yet (issue 3 left open): the drained fraction at breakthrough grows "
+    reason="not reproduced (issue 3 left open): the drained fraction at breakthrough grows "
     "with Ca instead of falling (python examples/scripts/viscous_vs_ca.py fraction: n=100, "
-    "lambda=0.3, 3 seeds: IP 0.104, Ca=1e-3 0.109, 1e-2 0.129, 1e-1 0.160), although the "
-    "mass-radius exponent of single patterns falls (viscous_vs_ca.py df, n=150: IP 1.77, "
-    "Ca=1e-2 1.69, 1e-1 1.71). Needs D_f ensembles at n=400 (issue 5's analysis) to settle",
+    "lambda=0.3, 3 seeds: IP 0.104, Ca=1e-3 0.112, 1e-2 0.105, 3e-2 0.121, 1e-1 0.165). "
+    "At n=20 the two means are within noise (0.171 at Ca=1e-1, 0.179 at 1e-4), so this "
+    "test may pass by chance; D_f ensembles at n=400 (issue 5's analysis) must settle it",
 )
 def test_higher_ca_gives_thinner_fingers():
     """Viscous fingering (Ca* = Ca (L/a) / [lambda / (1 - lambda^2)] >> 1, here Ca* ~ 6 at
@@ -308,7 +310,7 @@ HARD_CASES = {
     "Ca=1": (scene(n=30, capillary_number=1.0), "breakthrough"),
     # the smallest Ca that runs in a few seconds: ~2.2e6 steps at n = 10 (~2 s here)
     "Ca=1e-6": (scene(n=10, capillary_number=1e-6), "breakthrough"),
-    # explicit steps grow like 1/Ca: ~1.5e7 steps for one drained pore at n = 3 (~6 s here)
+    # explicit steps grow like 1/Ca: ~1.3e7 steps for one drained pore at n = 3 (~6 s here)
     "Ca=1e-7": (scene(n=3, capillary_number=1e-7, max_steps=5 * 10**7), "breakthrough"),
     "3x3": (scene(n=3, capillary_number=1e-2), "breakthrough"),
     "3x3-complete": (scene(n=3, at="complete", capillary_number=1e-2), "complete"),
@@ -326,9 +328,11 @@ def test_hard_cases_stay_finite_and_finish(case):
     sim, result = simulate(sc)
     assert result.summary["stop_reason"] == reason
     assert_sane(sim, result, max_steps)
-    # round-off accumulates with the step count (~1e-17 per step measured), so the
-    # 2.2e6-step run sits at ~3e-11; 1e-9 still catches any lost flux
-    assert result.summary["volume_balance_error"] < 1e-9
+    # round-off accumulates with the step count: measured 3.0e-9 after the 1.3e7 steps of
+    # Ca = 1e-7 (2e-16 per step: at constant dt the rounding of V/dt * dt/V repeats); a bound
+    # of 1e-15 per step (1e-12 at least) still catches any lost flux
+    steps = result.summary["time_steps"]
+    assert result.summary["volume_balance_error"] < max(1e-15 * steps, 1e-12)
     n = sc["lattice"]["n"]
     if n == 3:
         # all 8 non-centre pores are outlet pores: breakthrough at the second drained pore,
