@@ -324,6 +324,7 @@ def explicit_advance(
     c_on = np.empty(len(on_t))
     nxt = np.empty(len(on_t), dtype=np.int64)
     head = np.full(len(p), -1, dtype=np.int64)
+    near = np.empty(len(on_t), dtype=np.int64)  # slots in front of menisci near threshold
     last_rate = np.inf  # largest |dp/dt| of the last step (for the stationarity test)
     dt_next = dt_max  # the step the accuracy limit predicts
     while True:
@@ -352,7 +353,10 @@ def explicit_advance(
         # (to what it would reach with the first ones alone).
         menisci = (on_t, on_p, c_on, head, nxt, p, flux, vol, g_num, ell, area)
         pump = (control, pinv, q_rate, capacity_now, ramp_rate)
+        # the most the invading pressure can rise in the step (the pump alone)
+        reach = dt_hi * max(q_rate / capacity_now if control == CONTROL_RATE else 0.0, ramp_rate)
         n_on = 0
+        n_near = 0  # below their threshold by less than reach: near[:n_near]
         for s in range(nf):
             f = front[s]
             i = _other(tp, drained, f)
@@ -360,22 +364,23 @@ def explicit_advance(
             if latching:
                 if d > pe[f]:
                     latched[f] = True
-                listed, c = latched[f], 0.0
-            else:
-                listed, c = d > pe[f] * (1.0 - 1e-9), pe[f]
-            if listed:
-                n_on = _list_meniscus(f, i, c, n_on, on_t, on_p, c_on, head, nxt)
+                if latched[f]:
+                    n_on = _list_meniscus(f, i, 0.0, n_on, on_t, on_p, c_on, head, nxt)
+            elif d > pe[f] * (1.0 - 1e-9):
+                n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
+            elif d > pe[f] - reach:
+                near[n_near] = s
+                n_near += 1
         n_sure = n_on
         if grid_n > 0:  # the grid sweep needs the explicit fluxes of the meniscus pores only
             for s in range(n_on):
                 flux[on_p[s]] = grid_flux(grid_n, box, on_p[s], p, g_eff, g_out)
-        if not latching and control != CONTROL_PRESSURE:
+        if n_near > 0:
             rise = invader_pressure(dt_hi, n_on, menisci, pump) - pinv
-            for s in range(nf):
-                f = front[s]
+            for r in range(n_near):
+                f = front[near[r]]
                 i = _other(tp, drained, f)
-                d = pinv - p[i]
-                if pe[f] - rise < d <= pe[f] * (1.0 - 1e-9):
+                if pinv - p[i] > pe[f] - rise:
                     n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
             if grid_n > 0:
                 for s in range(n_sure, n_on):
