@@ -33,7 +33,7 @@ def scene(n=30, seed=1, disorder=0.3, at="breakthrough", pore_size=A, **fluid):
     return {
         "seed": seed,
         "lattice": {"n": n, "disorder": disorder, "pore_size": pore_size},
-        "fluid": {"kind": "viscous", **fluid},
+        "fluid": {"kind": "viscous", "integrator": "explicit", **fluid},
         "stop": {"at": at},
     }
 

@@ -69,31 +69,58 @@ class ViscousConfig(ModelConfig):
         description="'threshold': a meniscus advances only while p_inv - p_i exceeds its entry "
         "pressure; 'latching': once started it advances while p_inv > p_i.",
     )
-    integrator: Literal["auto", "explicit"] = Field(
+    integrator: Literal["auto", "explicit", "implicit"] = Field(
         "auto",
         description="Time integrator: 'explicit' (forward Euler between pores, point-implicit "
-        "menisci and reservoir); 'auto' picks it.",
+        "menisci and reservoir; steps grow like 1/Ca), 'implicit' (backward Euler over all "
+        "pores with sliding menisci and located start and landing events; its cost does not "
+        "grow like 1/Ca) or 'auto' (implicit where the explicit one would need more than "
+        "80 sqrt(N) steps per drained pore, N the number of pores: small Ca on small "
+        "lattices; docs/accuracy.md). Both land menisci exactly "
+        "on l = 0 and keep the injection reservoir stable.",
     )
     safety_factor: float = Field(
         0.9,
         gt=0,
         le=1,
         description="Explicit step as a fraction of the stability limit "
-        "min_i c_t V_i / sum_j g_ij (-). Smaller is more accurate and slower.",
+        "min_i c_t V_i / sum_j g_ij (-). Smaller is more accurate and slower. Explicit "
+        "integrator only.",
+    )
+    tolerance: float = Field(
+        1e-2,
+        gt=0,
+        lt=1,
+        description="Implicit integrator only: local error allowed per step (the backward "
+        "Euler estimate 0.5 max |p' - p - dt dp/dt| over the pore pressures and p_inv), as "
+        "a fraction of the spread of entry pressures 2 gamma (1/r_min - 1/r_max) (-). "
+        "Smaller is more accurate and slower.",
+    )
+    event_tolerance: float = Field(
+        1e-10,
+        gt=0,
+        lt=1e-2,
+        description="Implicit integrator only: relative precision in time of the located "
+        "events (a meniscus landing on l = 0, a meniscus reaching its entry pressure), as a "
+        "fraction of the step that contains them (-).",
     )
     pressure_floor: float = Field(
         1e-9,
         ge=0,
-        description="Pressures below this magnitude, in units of gamma/a, do not spread to "
-        "inactive neighbours (-). 0 lets every pressure spread (exact, slowest).",
+        description="Explicit integrator: pressures below this magnitude, in units of "
+        "gamma/a, do not spread to inactive neighbours (-); 0 lets every pressure spread "
+        "(exact, slowest). Both integrators: a pressure-controlled run is stationary once no "
+        "meniscus advances and no pressure changes by more than this per stable step (the "
+        "implicit one uses at least 1e-15).",
     )
     pressure_step: float | None = Field(
         0.1,
         gt=0,
-        description="Accuracy limit of the time step: largest change per step of the "
-        "invading pressure and of the pressures behind advancing menisci, as a fraction of "
-        "the spread of entry pressures 2 gamma (1/r_min - 1/r_max) (-). inf (None from "
-        "Python): the stability limit alone (fastest, far less accurate; docs/accuracy.md).",
+        description="Explicit integrator only: accuracy limit of the time step, largest "
+        "change per step of the invading pressure and of the pressure difference across "
+        "each meniscus that may advance, as a fraction of the spread of entry pressures "
+        "2 gamma (1/r_min - 1/r_max) (-). inf (None from Python): the stability limit alone "
+        "(slightly faster and less accurate; docs/accuracy.md).",
     )
     max_time: float | None = Field(
         None, gt=0, description="End the run at this time (s) if it has not stopped before."
@@ -155,6 +182,7 @@ class ViscousDrainage(FluidModel):
         at = self.context.injection.at
         self._conductances(state)
         self._injection()
+        self._integrator = self._choose_integrator()
         self._allocate(state)
         for inlet in lat.inlet_pores(at):
             vk.drain_pore(
@@ -175,7 +203,33 @@ class ViscousDrainage(FluidModel):
         self._t_end = math.inf if cfg.max_time is None else cfg.max_time / sc.time
         self.snapshots: list[dict[str, Any]] = []
         self._sync(state)
-        self._check_step_count(state)
+        if self.integrator == "explicit":
+            self._check_step_count(state)
+
+    @property
+    def integrator(self) -> str:
+        """The time integrator of this run: the config's choice, with 'auto' resolved at
+        setup by :meth:`_choose_integrator` (still 'auto' before setup)."""
+        return getattr(self, "_integrator", self.config.integrator)
+
+    def _choose_integrator(self) -> str:
+        """Resolve ``integrator = 'auto'`` (the one place that decides).
+
+        Implicit when the explicit integrator would need more than ``80 sqrt(N)`` steps per
+        drained pore (N pores), estimated as ``2.8 V / (Q dt)`` (a drained pore takes ~2.8
+        mean pore volumes of injected fluid, counting what the defender stores); explicit
+        otherwise, and always under pressure or ramp control. Measured crossover at n = 50
+        (``python tests/benchmarks/bench_implicit.py --n 50 --ca 1e-4 1e-5 1e-6``): the
+        explicit integrator wins at 815 steps per drained pore (Ca = 1e-4), the implicit one
+        at 8 048 (Ca = 1e-5). The bound grows like sqrt(N) because an implicit step factorises
+        the pore matrix (~N^1.5 on a grid) where an explicit one sweeps it (~N)."""
+        choice = self.config.integrator
+        if choice != "auto":
+            return choice
+        if self.config.control != "rate" or self._q <= 0:
+            return "explicit"
+        explicit_steps = 2.8 * float(np.mean(self._vol)) / (self._q * self._dt)
+        return "implicit" if explicit_steps > 80.0 * math.sqrt(self.lattice.n_pores) else "explicit"
 
     def _conductances(self, state: State) -> None:
         """Throat, pore and outlet properties from the apertures, the stable step and the
@@ -211,12 +265,11 @@ class ViscousDrainage(FluidModel):
         self.dt_stable = float(np.min(self._vol / (degree_sum + self._g_out)))
         self._dt = cfg.safety_factor * self.dt_stable
         spread = float(np.max(self._pe) - np.min(self._pe))
-        #: Accuracy limit in gamma/a (a floor of 1 % of the mean entry pressure keeps it
-        #: finite for nearly uniform apertures).
+        #: Unit of the accuracy limits, gamma/a: the entry-pressure spread (a floor of 1 % of
+        #: the mean entry pressure keeps it finite for nearly uniform apertures).
+        self._pressure_scale = max(spread, 0.01 * float(np.mean(self._pe)))
         self._pressure_step = (
-            math.inf
-            if cfg.pressure_step is None
-            else cfg.pressure_step * max(spread, 0.01 * float(np.mean(self._pe)))
+            math.inf if cfg.pressure_step is None else cfg.pressure_step * self._pressure_scale
         )
 
     def _injection(self) -> None:
@@ -260,6 +313,13 @@ class ViscousDrainage(FluidModel):
         self._cnt = np.zeros(vk.N_CNT, dtype=np.int64)
         self._order, self._via = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
         self._series = np.zeros((n, len(vk.SERIES)))
+        if self.integrator == "implicit":
+            from porenet.kernels import implicit as ik
+
+            self._mstate = np.zeros(m, dtype=np.int8)
+            self._mflux = np.zeros(m)
+            self._ctrl = np.zeros(ik.N_CTRL)
+            self._cache: dict[str, Any] = {}
 
     def _check_step_count(self, state: State) -> None:
         """Fail at once, saying why, when the run cannot reach breakthrough within max_steps.
@@ -308,7 +368,9 @@ class ViscousDrainage(FluidModel):
         if self._pending_times:
             t_end = min(t_end, self._pending_times[0])
         status = 0
-        if budget > 0:
+        if budget > 0 and self.integrator == "implicit":
+            status = self._implicit_advance(state, budget, t_end)
+        elif budget > 0:
             status = vk.explicit_advance(
                 *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
                 self._g_out, self._outlet, self._grid_n, self._box, self._p, state.drained,
@@ -327,6 +389,15 @@ class ViscousDrainage(FluidModel):
                 f"{int(self._cnt[1])} steps and {state.n_drained} drained pores"
                 + (f" (max_steps = {cfg.max_steps})" if status == 3 else "")
             )
+        if status == 7:
+            from porenet.kernels import implicit as ik
+
+            raise NumericalError(
+                f"viscous model (implicit integrator): {ik.STATUS[7]} at t = {state.time:g} "
+                f"(scaled) after {int(self._cnt[1])} steps and {state.n_drained} drained pores "
+                f"(meniscus in throat {int(self._cnt[vk.CNT['where']])}); try a smaller "
+                f"'tolerance' or the explicit integrator"
+            )
         n_now = int(self._cnt[0])
         if self._pending_saturations and n_now >= self._pending_saturations[0]:
             self._pending_saturations.pop(0)
@@ -341,6 +412,22 @@ class ViscousDrainage(FluidModel):
         ):
             self._status = status if status else 5
         return n_now - before
+
+    def _implicit_advance(self, state: State, budget: int, t_end: float) -> int:
+        from porenet.kernels import implicit as ik
+
+        cfg, stop = self.config, self.context.stop
+        return ik.implicit_advance(
+            *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
+            self._g_out, self._outlet, self._grid_n, self._box, self._p, state.drained,
+            self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
+            self._mstate, self._mflux, self._ctrl, self._acc, self._cnt, self._order,
+            self._via, self._series, self._cache, self._control, self._q, self._capacity,
+            self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
+            MENISCUS_LENGTH, self.dt_stable, self._pressure_scale, cfg.tolerance,
+            cfg.event_tolerance, cfg.pressure_floor, budget, t_end, cfg.max_steps,
+            stop.at == "breakthrough", _STEP_CHUNK,
+        )  # fmt: skip
 
     def _sync(self, state: State) -> None:
         """Copy the kernel's counters into the State and extend the record."""
@@ -454,13 +541,24 @@ class ViscousDrainage(FluidModel):
         requested = cfg.capillary_number
         if requested is None and cfg.injection_rate is not None:
             requested = self._q / self.cross_section
-        return {
+        steps = int(self._cnt[1])
+        out = {
             "capillary_number": requested,
             "capillary_number_measured": self.measured_capillary_number(),
             "volume_balance_error": self.largest_balance_error(),
-            "time_steps": int(self._cnt[1]),
+            "time_steps": steps,
             "stable_time_step_s": self.dt_stable * (sc.time or 0.0),
+            # explicit: the fixed step; implicit: the mean accepted step
             "time_step_s": self._dt * (sc.time or 0.0),
             "final_invading_pressure": state.invading_pressure * sc.pressure,
-            "integrator": "explicit",
+            "integrator": self.integrator,
         }
+        if self.integrator == "implicit":
+            from porenet.kernels import implicit as ik
+
+            ctrl = self._ctrl
+            out["time_step_s"] = state.time / max(steps, 1) * (sc.time or 0.0)
+            out["linear_solves"] = int(ctrl[ik.CTRL["solves"]])
+            out["factorizations"] = int(ctrl[ik.CTRL["factorizations"]])
+            out["rejected_steps"] = int(ctrl[ik.CTRL["rejected"]])
+        return out

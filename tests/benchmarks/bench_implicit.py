@@ -1,0 +1,125 @@
+"""Benchmark: the implicit and explicit viscous integrators across Ca (not a test; no assertions).
+
+    python tests/benchmarks/bench_implicit.py                       # n = 100, Ca 1e-3 .. 1e-6
+    python tests/benchmarks/bench_implicit.py --n 50 --ca 1e-4 1e-6 --integrator implicit
+    python tests/benchmarks/bench_implicit.py --profile --ca 1e-5 --integrator implicit
+
+Each run is the scene ``{"seed": 1, "lattice": {"n": n, "disorder": 0.3, "pore_size": 1e-7},
+"fluid": {"kind": "viscous", "capillary_number": Ca, "integrator": ...}, "stop": {"at":
+"breakthrough"}}`` (default settings otherwise), run in a child process so that a run longer
+than ``--max-wall`` seconds is stopped and reported as such (the explicit integrator needs
+~4/(n Ca) steps per drained pore). Reported: wall time of ``run()`` (the numba cache is
+warmed first, on a 10 x 10 scene), time steps, drained pores, steps per drained pore, and
+for the implicit integrator the linear solves and factorisations per drained pore and the
+rejected steps. ``--profile`` prints where the implicit integrator spends its time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing as mp
+import time
+from typing import Any
+
+
+def scene(n: int, ca: float, integrator: str, seed: int = 1) -> dict[str, Any]:
+    return {
+        "seed": seed,
+        "lattice": {"n": n, "disorder": 0.3, "pore_size": 1e-7},
+        "fluid": {"kind": "viscous", "capillary_number": ca, "integrator": integrator},
+        "stop": {"at": "breakthrough"},
+    }
+
+
+def _run(sc: dict[str, Any], profile: bool, out: Any) -> None:
+    from porenet.simulation import Simulation
+
+    small = json.loads(json.dumps(sc))
+    small["lattice"]["n"] = 10
+    Simulation.from_scene(small).run()  # load or compile the numba cache
+    sim = Simulation.from_scene(sc)
+    if profile:
+        import cProfile
+        import pstats
+
+        prof = cProfile.Profile()
+        t0 = time.perf_counter()
+        prof.enable()
+        result = sim.run()
+        prof.disable()
+        wall = time.perf_counter() - t0
+        pstats.Stats(prof).sort_stats("tottime").print_stats(12)
+    else:
+        t0 = time.perf_counter()
+        result = sim.run()
+        wall = time.perf_counter() - t0
+    s = result.summary
+    out.put(
+        {
+            "wall_s": wall,
+            "steps": s["time_steps"],
+            "n_drained": s["n_drained"],
+            "time": sim.state.time,
+            "solves": s.get("linear_solves"),
+            "factorizations": s.get("factorizations"),
+            "rejected": s.get("rejected_steps"),
+            "balance": s["volume_balance_error"],
+        }
+    )
+
+
+def run(sc: dict[str, Any], max_wall: float, profile: bool = False) -> dict[str, Any] | None:
+    """One run in a child process; None if it takes longer than ``max_wall`` seconds."""
+    ctx = mp.get_context("spawn")
+    out = ctx.Queue()
+    proc = ctx.Process(target=_run, args=(sc, profile, out))
+    proc.start()
+    try:
+        return out.get(timeout=max_wall + 60)  # + compile / cache warm-up
+    except Exception:
+        return None
+    finally:
+        proc.terminate()
+        proc.join()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=100)
+    parser.add_argument("--ca", type=float, nargs="+", default=[1e-3, 1e-4, 1e-5, 1e-6])
+    parser.add_argument(
+        "--integrator",
+        nargs="+",
+        default=["implicit", "explicit"],
+        choices=["implicit", "explicit"],
+    )
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--max-wall", type=float, default=300.0)
+    parser.add_argument("--profile", action="store_true")
+    args = parser.parse_args()
+    print(f"n = {args.n}, seed {args.seed}, lambda = 0.3, to breakthrough")
+    print(
+        "integrator  Ca      wall(s)  steps    drained  steps/pore  solves/pore  fact/pore  "
+        "rejected  time"
+    )
+    for ca in args.ca:
+        for integrator in args.integrator:
+            r = run(scene(args.n, ca, integrator, args.seed), args.max_wall, args.profile)
+            if r is None:
+                print(f"{integrator:10s}  {ca:<6.0e}  > {args.max_wall:.0f} s (stopped)")
+                continue
+            d = max(r["n_drained"] - 1, 1)  # the inlet drains at t = 0
+            solves = f"{r['solves'] / d:11.1f}" if r["solves"] is not None else " " * 11
+            fact = f"{r['factorizations'] / d:9.1f}" if r["factorizations"] is not None else " " * 9
+            rej = f"{r['rejected']:8d}" if r["rejected"] is not None else " " * 8
+            print(
+                f"{integrator:10s}  {ca:<6.0e}  {r['wall_s']:7.1f}  {r['steps']:7d}  "
+                f"{r['n_drained']:7d}  {r['steps'] / d:10.1f}  {solves}  {fact}  {rej}  "
+                f"{r['time']:.4g}",
+                flush=True,
+            )
+
+
+if __name__ == "__main__":
+    main()
