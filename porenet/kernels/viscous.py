@@ -233,7 +233,6 @@ def explicit_advance(
     act: np.ndarray,
     apos: np.ndarray,
     flux: np.ndarray,
-    gsum: np.ndarray,
     p_next: np.ndarray,
     on_t: np.ndarray,
     on_p: np.ndarray,
@@ -287,8 +286,7 @@ def explicit_advance(
     front, fpos, act, apos : index lists, updated in place
         Frontier throats (``front[:cnt[2]]``, ``fpos`` their slots or -1) and active pores
         (``act[:cnt[3]]``, ``apos`` likewise).
-    flux, gsum, p_next, on_t, on_p, landing : scratch, shapes (N,), (N,), (N,), (M,), (M,), (M,)
-        ``gsum`` is not used (kept for the caller's signature).
+    flux, p_next, on_t, on_p, landing : scratch, shapes (N,), (N,), (M,), (M,), (M,)
     acc, cnt : running totals (:data:`ACC`) and counters (:data:`CNT`), updated in place.
     order, via, series : records, appended at ``cnt[0]`` by :func:`drain_pore` (the drainage
         time and invading pressure of each event are ``series[:, 0]`` and ``series[:, 1]``).

@@ -303,7 +303,7 @@ class ViscousDrainage(FluidModel):
         self._latched = np.zeros(m, dtype=bool)
         self._front, self._fpos = np.zeros(m, dtype=np.int64), np.full(m, -1, dtype=np.int64)
         self._act, self._apos = np.zeros(n, dtype=np.int64), np.full(n, -1, dtype=np.int64)
-        self._flux, self._gsum, self._p_next = np.zeros(n), np.zeros(n), np.zeros(n)
+        self._flux, self._p_next = np.zeros(n), np.zeros(n)
         self._on_t, self._on_p = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64)
         self._landing = np.zeros(m)
         self._acc = np.zeros(vk.N_ACC)
@@ -375,7 +375,7 @@ class ViscousDrainage(FluidModel):
                 *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
                 self._g_out, self._outlet, self._grid_n, self._box, self._p, state.drained,
                 self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
-                self._flux, self._gsum, self._p_next, self._on_t, self._on_p, self._landing,
+                self._flux, self._p_next, self._on_t, self._on_p, self._landing,
                 self._acc, self._cnt, self._order, self._via,
                 self._series, self._dt, self._control, self._q, self._capacity,
                 self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
