@@ -5,6 +5,8 @@ versus wall time, for every accuracy knob of each integrator.
     python examples/scripts/accuracy_viscous.py --n 60 --ca 1e-2 --quick
     python examples/scripts/accuracy_viscous.py --out docs/figures/accuracy-explicit.png \\
         --table docs/accuracy-table.md
+    python examples/scripts/accuracy_viscous.py --n 50 --ca 1e-5 --quick \\
+        --integrators explicit implicit --reference implicit       # both integrators
 
 For one scene (n x n, centre injection, lambda = 0.3, seed 1, to breakthrough) it runs a
 reference with the tightest settings and then sweeps one knob at a time, the others at their
@@ -13,7 +15,7 @@ defaults (what a user changes when tuning a run). Errors against the reference:
 * pattern: 1 - |A & B| / |A | B| of the drained sets at breakthrough (Jaccard distance);
 * breakthrough time: relative error;
 * pressure: relative L2 norm of the difference of the pressure fields at a fixed time (half
-  the reference breakthrough time), taken from a snapshot.
+  the breakthrough time of a run at default settings), taken from a snapshot.
 
 Wall times are single runs after a warm-up (numba cache loaded), on this machine.
 """
@@ -26,21 +28,28 @@ from pathlib import Path
 
 import numpy as np
 
+from porenet.builtin.fluids.viscous import ViscousConfig
 from porenet.simulation import Simulation
 
-#: The knobs of the explicit integrator, the values swept, and the reference value.
+#: Per integrator: its accuracy knobs, the values swept, and the value in its reference run.
 KNOBS = {
-    "safety_factor": ([1.0, 0.9, 0.5, 0.25], 0.05),
-    "pressure_step": ([None, 1.0, 0.3, 0.1, 0.03], 0.01),
-    "pressure_floor": ([1e-2, 1e-4, 1e-6, 1e-9], 0.0),
+    "explicit": {
+        "safety_factor": ([1.0, 0.9, 0.5, 0.25], 0.05),
+        "pressure_step": ([None, 1.0, 0.3, 0.1, 0.03], 0.01),
+        "pressure_floor": ([1e-2, 1e-4, 1e-6, 1e-9], 0.0),
+    },
+    "implicit": {
+        "tolerance": ([1e-1, 3e-2, 1e-2, 3e-3, 1e-3], 1e-4),
+        "event_tolerance": ([1e-4, 1e-6, 1e-10], 1e-12),
+    },
 }
 
 
-def scene(n: int, ca: float, **fluid: float) -> dict:
+def scene(n: int, ca: float, integrator: str, **fluid: float) -> dict:
     return {
         "seed": 1,
         "lattice": {"n": n, "disorder": 0.3, "pore_size": 1e-7},
-        "fluid": {"kind": "viscous", "capillary_number": ca, **fluid},
+        "fluid": {"kind": "viscous", "capillary_number": ca, "integrator": integrator, **fluid},
     }
 
 
@@ -71,46 +80,62 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100)
     parser.add_argument("--ca", type=float, default=1e-2)
-    parser.add_argument("--quick", action="store_true", help="two values per knob")
+    parser.add_argument(
+        "--quick", action="store_true", help="per knob only the extremes and the default"
+    )
+    parser.add_argument(
+        "--integrators", nargs="+", default=["explicit"], choices=sorted(KNOBS), help="swept"
+    )
+    parser.add_argument(
+        "--reference", default="explicit", choices=sorted(KNOBS), help="integrator of the reference"
+    )
     parser.add_argument("--out", type=Path, help="figure (PNG)")
     parser.add_argument("--table", type=Path, help="markdown table")
     args = parser.parse_args()
 
-    run(scene(20, args.ca))  # warm-up: load the numba cache
-    reference_settings = {k: ref for k, (_, ref) in KNOBS.items()}
-    wall_ref, ref0 = run(scene(args.n, args.ca, **reference_settings))
-    t_snap = 0.5 * ref0.data.invasion_time[-1]
-    sc_ref = scene(args.n, args.ca, **reference_settings, snapshot_times=[t_snap])
+    for integrator in args.integrators:  # warm-up: load the numba cache
+        run(scene(10, args.ca, integrator))
+    reference_settings = {k: ref for k, (_, ref) in KNOBS[args.reference].items()}
+    # the pressure fields are compared at half the breakthrough time of a default run
+    _, probe = run(scene(args.n, args.ca, args.reference))
+    t_snap = 0.5 * probe.data.invasion_time[-1]
+    sc_ref = scene(args.n, args.ca, args.reference, **reference_settings, snapshot_times=[t_snap])
     wall_ref, ref = run(sc_ref)
     print(
-        f"reference ({reference_settings}): {wall_ref:.2f} s, breakthrough at "
-        f"{ref.data.invasion_time[-1]:.4g} s, {ref.summary['time_steps']} steps"
+        f"reference ({args.reference}, {reference_settings}): {wall_ref:.2f} s, breakthrough "
+        f"at {ref.data.invasion_time[-1]:.4g} s, {ref.summary['time_steps']} steps"
     )
     rows = []
-    for knob, (values, _) in KNOBS.items():
-        for value in values[:: max(1, len(values) // 2)] if args.quick else values:
-            settings = {knob: value}  # the other knobs at their defaults
-            wall, res = run(scene(args.n, args.ca, **settings, snapshot_times=[t_snap]))
-            err = errors(ref, res, t_snap)
-            rows.append(
-                {
-                    "integrator": "explicit",
-                    "knob": knob,
-                    "value": value,
-                    "wall": wall,
-                    "steps": res.summary["time_steps"],
-                    **err,
-                }
-            )
-            print(
-                f"  {knob:>15} = {value!s:<8} {wall:7.2f} s  steps {rows[-1]['steps']:>8d}  "
-                f"pattern {err['pattern']:.2e}  t_bt {err['breakthrough_time']:.2e}  "
-                f"p {err['pressure']:.2e}"
-            )
+    for integrator in args.integrators:
+        for knob, (values, _) in KNOBS[integrator].items():
+            default = ViscousConfig.model_fields[knob].default
+            if args.quick:
+                values = [v for v in values if v in (values[0], default, values[-1])]
+            for value in values:
+                settings = {knob: value}  # the other knobs at their defaults
+                sc = scene(args.n, args.ca, integrator, **settings, snapshot_times=[t_snap])
+                wall, res = run(sc)
+                err = errors(ref, res, t_snap)
+                rows.append(
+                    {
+                        "integrator": integrator,
+                        "knob": knob,
+                        "value": value,
+                        "wall": wall,
+                        "steps": res.summary["time_steps"],
+                        **err,
+                    }
+                )
+                print(
+                    f"  {integrator:>8} {knob:>15} = {value!s:<8} {wall:7.2f} s  steps "
+                    f"{rows[-1]['steps']:>8d}  pattern {err['pattern']:.2e}  "
+                    f"t_bt {err['breakthrough_time']:.2e}  p {err['pressure']:.2e}",
+                    flush=True,
+                )
     if args.table:
         lines = [
             f"Scene: n = {args.n}, Ca = {args.ca:g}, lambda = 0.3, seed 1, to breakthrough. "
-            f"Reference: {reference_settings}, {wall_ref:.2f} s.",
+            f"Reference: {args.reference} integrator, {reference_settings}, {wall_ref:.2f} s.",
             "",
             "| integrator | knob | value | wall (s) | steps | pattern error | breakthrough-time "
             "error | pressure error |",
@@ -131,13 +156,20 @@ def main() -> None:
         fig = Figure(figsize=(10, 3.4), dpi=130, layout="constrained")
         axes = fig.subplots(1, 3)
         for ax, metric in zip(axes, ("pattern", "breakthrough_time", "pressure"), strict=True):
-            for knob, marker in zip(KNOBS, "os^", strict=False):
+            swept = [(i, k) for i in args.integrators for k in KNOBS[i]]
+            for (integrator, knob), marker in zip(swept, "os^vDP", strict=False):
                 pts = [
                     (r["wall"], max(r[metric], 1e-16), r["value"])
                     for r in rows
-                    if r["knob"] == knob
+                    if r["knob"] == knob and r["integrator"] == integrator
                 ]
-                ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=marker, label=knob)
+                ax.loglog(
+                    [p[0] for p in pts],
+                    [p[1] for p in pts],
+                    marker=marker,
+                    linestyle="-" if integrator == "explicit" else "--",
+                    label=f"{integrator}: {knob}",
+                )
                 for w, e, v in pts:
                     ax.annotate(
                         f"{v}", (w, e), fontsize=7, xytext=(3, 3), textcoords="offset points"
@@ -147,8 +179,8 @@ def main() -> None:
             ax.grid(True, which="both", alpha=0.3)
         axes[0].legend(fontsize=8)
         fig.suptitle(
-            f"explicit integrator, n = {args.n}, Ca = {args.ca:g}: error vs wall time "
-            f"(reference {wall_ref:.1f} s)",
+            f"{' and '.join(args.integrators)}, n = {args.n}, Ca = {args.ca:g}: error vs wall "
+            f"time (reference: {args.reference}, {wall_ref:.1f} s)",
             fontsize=10,
         )
         save_figure(fig, args.out)

@@ -80,12 +80,13 @@ class ViscousConfig(ModelConfig):
         "on l = 0 and keep the injection reservoir stable.",
     )
     safety_factor: float = Field(
-        0.9,
+        1.0,
         gt=0,
         le=1,
-        description="Explicit step as a fraction of the stability limit "
-        "min_i c_t V_i / sum_j g_ij (-). Smaller is more accurate and slower. Explicit "
-        "integrator only.",
+        description="Explicit step as a fraction of the limit min_i c_t V_i / sum_j g_ij (-), "
+        "below which every explicit update is a convex combination of pressures (stable, "
+        "and no pressure leaves the range of its neighbours'). Smaller is more accurate in "
+        "the pressure field and slower (docs/accuracy.md). Explicit integrator only.",
     )
     tolerance: float = Field(
         1e-2,
@@ -220,8 +221,8 @@ class ViscousDrainage(FluidModel):
         mean pore volumes of injected fluid, counting what the defender stores); explicit
         otherwise, and always under pressure or ramp control. Measured crossover at n = 50
         (``python tests/benchmarks/bench_implicit.py --n 50 --ca 1e-4 1e-5 1e-6``): the
-        explicit integrator wins at 815 steps per drained pore (Ca = 1e-4), the implicit one
-        at 8 048 (Ca = 1e-5). The bound grows like sqrt(N) because an implicit step factorises
+        explicit integrator wins at 734 steps per drained pore (Ca = 1e-4), the implicit one
+        at 7 244 (Ca = 1e-5). The bound grows like sqrt(N) because an implicit step factorises
         the pore matrix (~N^1.5 on a grid) where an explicit one sweeps it (~N)."""
         choice = self.config.integrator
         if choice != "auto":
