@@ -12,9 +12,11 @@ by ``mu a / gamma``, volumes by ``a**3``. In these units the paper's equations r
   ``p_inv`` prescribed (pressure control, ramp).
 
 :func:`explicit_advance` integrates them with forward Euler for the fluxes between undrained
-pores and to the outlet, and point-implicit (backward Euler) for the meniscus fluxes and the
-injection reservoir, which are the stiff terms (a meniscus conductance ``A k / l`` grows without
-bound as ``l -> 0``; a small C makes the reservoir stiff). The pore-to-pore part is stable for
+pores and to the outlet, and point-implicit (backward Euler) for the meniscus fluxes, the pores
+they enter and the injection reservoir, which are the stiff terms (a meniscus conductance
+``A k / l`` grows without bound as ``l -> 0``; a small C makes the reservoir stiff). The
+threshold law is used in its convex closure, so a meniscus at its threshold slides
+(:mod:`porenet.kernels.menisci`). The pore-to-pore part is stable for
 ``dt <= min_i V_i / (sum_j g_ij + g_out,i)``; the implicit part is unconditionally stable, so the
 meniscus and reservoir terms never limit the step. Every flux is computed once and used for both
 sides, so the volume balances close to round-off (see :data:`ACC`). A step that would take a
