@@ -30,6 +30,7 @@ import numpy as np
 
 from porenet.builtin.fluids.viscous import ViscousConfig
 from porenet.simulation import Simulation
+from porenet.testing.runs import pattern_overlap
 
 #: Per integrator: its accuracy knobs, the values swept, and the value in its reference run.
 KNOBS = {
@@ -61,8 +62,7 @@ def run(sc: dict) -> tuple[float, object]:
 
 
 def errors(ref, res, t_snap: float) -> dict[str, float]:
-    a, b = ref.data.drained, res.data.drained
-    jaccard = 1.0 - np.sum(a & b) / np.sum(a | b)
+    jaccard = 1.0 - pattern_overlap(ref.data.drained, res.data.drained)
     t_ref = ref.data.invasion_time[-1]
     t_bt = res.data.invasion_time[-1]
     out = {"pattern": float(jaccard), "breakthrough_time": abs(t_bt - t_ref) / t_ref}

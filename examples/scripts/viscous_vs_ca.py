@@ -23,6 +23,7 @@ import argparse
 import numpy as np
 
 from porenet.simulation import Simulation
+from porenet.testing.runs import pattern_overlap
 
 
 def run(n: int, seed: int, fluid: dict):
@@ -43,7 +44,7 @@ def overlap() -> None:
         j = []
         for s in range(6):
             a, b = run(20, s, viscous(ca)).drained, ips[s].drained
-            j.append(np.sum(a & b) / np.sum(a | b))
+            j.append(pattern_overlap(a, b))
         print(f"Ca = {ca:<7g} overlap with IP {np.round(j, 3)}  mean {np.mean(j):.3f}")
 
 

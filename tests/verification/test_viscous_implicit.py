@@ -10,13 +10,12 @@ under a minute; the helpers are those of ``test_viscous_physics.py``.
 from __future__ import annotations
 
 import copy
-import functools
-import json
 
 import numpy as np
 import pytest
 
 from porenet.simulation import Simulation
+from porenet.testing.runs import cached_run, pattern_overlap, simulate
 
 GAMMA = 0.07  # N/m
 MU = 1e-3  # Pa s
@@ -33,25 +32,6 @@ def scene(n=20, seed=1, disorder=0.3, at="breakthrough", integrator="implicit", 
         "fluid": {"kind": "viscous", "integrator": integrator, **fluid},
         "stop": {"at": at},
     }
-
-
-def simulate(sc):
-    sim = Simulation.from_scene(sc)
-    return sim, sim.run()
-
-
-@functools.cache
-def _cached(key: str):
-    return simulate(json.loads(key))
-
-
-def cached(sc):
-    """Run a scene once per test session (shared runs are only read)."""
-    return _cached(json.dumps(sc, sort_keys=True))
-
-
-def jaccard(a: np.ndarray, b: np.ndarray) -> float:
-    return float((a & b).sum() / (a | b).sum())
 
 
 # -- 1. volume balances ---------------------------------------------------------------------------
@@ -77,7 +57,7 @@ def test_volume_balances_close_to_round_off(case):
     every drainage event. Each step books one set of fluxes on both sides; what remains is the
     round-off of the sparse solves, measured 1e-16 to 6e-15 relative on these runs. 1e-12
     leaves a margin of 100 and still catches a lost term (one step is >= 1e-4 of the total)."""
-    sim, result = cached(scene(**BALANCE_CASES[case]))
+    sim, result = cached_run(scene(**BALANCE_CASES[case]))
     assert result.summary["integrator"] == "implicit"
     invader, defender = sim.fluid.balance_errors()
     assert invader < 1e-12 and defender < 1e-12
@@ -146,8 +126,8 @@ def test_agrees_with_tight_explicit_run(seed):
     against the explicit one at safety_factor 0.1 and pressure_step 0.01. Measured: breakthrough
     times within +0.07 % to +0.15 % (seeds 0-3) and identical drained sets. 1 % and a Jaccard
     overlap of 0.9 leave room for a near-tie reordered by round-off."""
-    implicit = cached(scene(seed=seed, capillary_number=1e-3))[1]
-    explicit = cached(
+    implicit = cached_run(scene(seed=seed, capillary_number=1e-3))[1]
+    explicit = cached_run(
         scene(
             seed=seed,
             capillary_number=1e-3,
@@ -158,7 +138,7 @@ def test_agrees_with_tight_explicit_run(seed):
     )[1]
     t_i = implicit.data.invasion_time[-1]
     t_e = explicit.data.invasion_time[-1]
-    overlap = jaccard(implicit.data.drained, explicit.data.drained)
+    overlap = pattern_overlap(implicit.data.drained, explicit.data.drained)
     print(f"seed {seed}: breakthrough time {t_i / t_e - 1:+.4%}, Jaccard {overlap:.3f}")
     assert abs(t_i / t_e - 1) < 0.01
     assert overlap >= 0.9
@@ -177,10 +157,10 @@ def test_small_ca_is_invasion_percolation_with_trapping():
     """Ca = 1e-6 on 20 x 20 (lambda = 0.3): the drained set at breakthrough is invasion
     percolation's with trapping, pore for pore, for every seed."""
     for s in LIMIT_SEEDS:
-        dyn = cached(scene(seed=s, capillary_number=1e-6))[1].data
+        dyn = cached_run(scene(seed=s, capillary_number=1e-6))[1].data
         ip_scene = scene(seed=s)
         ip_scene["fluid"] = {"kind": "invasion-percolation", "trapping": True}
-        ip = cached(ip_scene)[1].data
+        ip = cached_run(ip_scene)[1].data
         np.testing.assert_array_equal(dyn.apertures, ip.apertures)
         np.testing.assert_array_equal(dyn.drained, ip.drained, err_msg=f"seed {s}")
 
@@ -194,7 +174,7 @@ def test_steps_per_drained_pore_do_not_grow_like_one_over_ca():
     seed 1: see the printout (the ratio is ~1.5); 5 is far below 100."""
     per_pore = {}
     for ca in (1e-4, 1e-6):
-        _, result = cached(scene(capillary_number=ca))
+        _, result = cached_run(scene(capillary_number=ca))
         s = result.summary
         per_pore[ca] = (s["time_steps"] / (s["n_drained"] - 1), s["factorizations"])
         per_pore[ca] += (s["factorizations"] / (s["n_drained"] - 1),)

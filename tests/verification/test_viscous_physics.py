@@ -9,14 +9,13 @@ docs/model.md ("Dynamic viscous drainage") and MODEL.md section 4.
 from __future__ import annotations
 
 import copy
-import functools
-import json
 
 import numpy as np
 import pytest
 
 import porenet
 from porenet.simulation import Simulation
+from porenet.testing.runs import cached_run, pattern_overlap, simulate
 
 GAMMA = 0.07  # N/m, the default interfacial tension
 MU = 1e-3  # Pa s, the default viscosity
@@ -36,25 +35,6 @@ def scene(n=30, seed=1, disorder=0.3, at="breakthrough", pore_size=A, **fluid):
         "fluid": {"kind": "viscous", "integrator": "explicit", **fluid},
         "stop": {"at": at},
     }
-
-
-def simulate(sc, **kwargs):
-    sim = Simulation.from_scene(sc, **kwargs)
-    return sim, sim.run()
-
-
-@functools.cache
-def _cached(key: str):
-    return simulate(json.loads(key))
-
-
-def cached(sc):
-    """Run a scene once per test session (runs shared between tests are only read)."""
-    return _cached(json.dumps(sc, sort_keys=True))
-
-
-def jaccard(a: np.ndarray, b: np.ndarray) -> float:
-    return float((a & b).sum() / (a | b).sum())
 
 
 def assert_sane(sim, result, max_steps):
@@ -105,7 +85,7 @@ def test_volume_balances_close_to_round_off(case):
     missed step is ~1e-3 of the total).
     """
     n = 30
-    sim, result = cached(scene(n=n, max_steps=10**6, **BALANCE_CASES[case]))
+    sim, result = cached_run(scene(n=n, max_steps=10**6, **BALANCE_CASES[case]))
     invader, defender = sim.fluid.balance_errors()
     assert invader < 1e-10 and defender < 1e-10
     assert result.summary["volume_balance_error"] < 1e-10
@@ -161,7 +141,7 @@ def test_measured_capillary_number_matches_requested(ca, seed):
     and the identity below pins the shortfall exactly.
     """
     n = 30
-    sim, result = cached(scene(n=n, seed=seed, capillary_number=ca))
+    sim, result = cached_run(scene(n=n, seed=seed, capillary_number=ca))
     s, data = result.summary, result.data
     measured = s["capillary_number_measured"]
     print(f"Ca = {ca:g} seed {seed}: measured {measured:.5g} ({measured / ca - 1:+.2%})")
@@ -189,7 +169,7 @@ LIMIT_N, LIMIT_DISORDER = 20, 0.3
 
 def limit_runs(ca):
     return [
-        cached(scene(n=LIMIT_N, seed=s, disorder=LIMIT_DISORDER, capillary_number=ca))[1].data
+        cached_run(scene(n=LIMIT_N, seed=s, disorder=LIMIT_DISORDER, capillary_number=ca))[1].data
         for s in LIMIT_SEEDS
     ]
 
@@ -199,7 +179,7 @@ def ip_runs():
     for s in LIMIT_SEEDS:
         sc = scene(n=LIMIT_N, seed=s, disorder=LIMIT_DISORDER)
         sc["fluid"] = {"kind": "invasion-percolation", "trapping": True}
-        out.append(cached(sc)[1].data)
+        out.append(cached_run(sc)[1].data)
     return out
 
 
@@ -221,8 +201,8 @@ def test_small_ca_reproduces_invasion_percolation_with_trapping():
     for a, b in zip(low, ip, strict=True):
         np.testing.assert_array_equal(a.apertures, b.apertures)  # same disorder realisation
         assert a.order[0] == b.order[0]  # same inlet
-    j_low = [jaccard(a.drained, b.drained) for a, b in zip(low, ip, strict=True)]
-    j_high = [jaccard(a.drained, b.drained) for a, b in zip(high, ip, strict=True)]
+    j_low = [pattern_overlap(a.drained, b.drained) for a, b in zip(low, ip, strict=True)]
+    j_high = [pattern_overlap(a.drained, b.drained) for a, b in zip(high, ip, strict=True)]
     print(f"overlap with IP: Ca=1e-5 {np.round(j_low, 3)}, Ca=1e-1 {np.round(j_high, 3)}")
     assert min(j_low) >= 0.95
     assert np.mean(j_low) >= 0.98
@@ -435,7 +415,7 @@ def test_menisci_land_exactly_on_zero(case):
     at that instant. The entry throat of a drained pore is never given a new meniscus (both its
     pores are drained), so its final length is the landing value: 0, or within TIE of 0 for
     menisci that landed together in one step."""
-    sim, result = cached(scene(n=30, max_steps=10**6, **MENISCUS_CASES[case]))
+    sim, result = cached_run(scene(n=30, max_steps=10**6, **MENISCUS_CASES[case]))
     data, ell = result.data, sim.state.meniscus_length
     assert np.all(ell >= 0) and np.all(ell <= ELL0)
 
@@ -492,7 +472,7 @@ def test_displaced_volume_is_the_volume_swept_by_menisci(fluid, seed):
     integrated over time, volumes()["drained"]) equals the throat volume they swept, sum A (2 -
     l), to round-off. A meniscus clamped at l = 0 after its flux carried it further would show
     up here as swept < displaced. rtol 1e-12: both sides are sums of ~1e2-1e4 terms of O(1)."""
-    sim, result = cached(scene(n=30, seed=seed, max_steps=10**6, **fluid))
+    sim, result = cached_run(scene(n=30, seed=seed, max_steps=10**6, **fluid))
     displaced = sim.fluid.volumes()["drained"]
     np.testing.assert_allclose(swept_volume(sim, result.data), displaced, rtol=1e-12)
 

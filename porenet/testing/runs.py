@@ -1,0 +1,41 @@
+"""Running scenes in tests and comparing their patterns.
+
+* :func:`simulate` builds and runs a scene (a dict, path or config);
+* :func:`cached_run` runs a scene dict once per process, so tests that check different
+  properties of the same run share it (they must only read the results);
+* :func:`pattern_overlap` is the Jaccard overlap ``|A & B| / |A | B|`` of two drained sets,
+  the measure docs/accuracy.md uses to compare patterns (its complement is the "pattern
+  error").
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+from typing import Any
+
+import numpy as np
+
+from porenet.simulation import Simulation
+
+
+def simulate(scene: Any, **kwargs: Any) -> tuple[Simulation, Any]:
+    """``(simulation, result)`` of a scene; ``kwargs`` go to :meth:`Simulation.from_scene`."""
+    sim = Simulation.from_scene(scene, **kwargs)
+    return sim, sim.run()
+
+
+@functools.cache
+def _cached(key: str) -> tuple[Simulation, Any]:
+    return simulate(json.loads(key))
+
+
+def cached_run(scene: dict) -> tuple[Simulation, Any]:
+    """:func:`simulate` a JSON-serialisable scene dict once per process (read-only results)."""
+    return _cached(json.dumps(scene, sort_keys=True))
+
+
+def pattern_overlap(a: np.ndarray, b: np.ndarray) -> float:
+    """Jaccard overlap ``|A & B| / |A | B|`` of two boolean masks (1 when both are empty)."""
+    union = int(np.sum(a | b))
+    return float(np.sum(a & b) / union) if union else 1.0
