@@ -141,6 +141,23 @@ def _pattern_positions(
     return diag, off
 
 
+@njit(helper=True)
+def _diagonal(
+    i: int,
+    dt: float,
+    indptr: np.ndarray,
+    thr: np.ndarray,
+    vol: np.ndarray,
+    g_eff: np.ndarray,
+    g_out: np.ndarray,
+) -> float:
+    """Diagonal entry of pore ``i`` in ``K = V/dt + L``: ``V_i/dt + g_out,i + sum_j g_ij``."""
+    total = vol[i] / dt + g_out[i]
+    for e in range(indptr[i], indptr[i + 1]):
+        total += g_eff[thr[e]]
+    return total
+
+
 @njit
 def _fill_matrix(
     dt: float,
@@ -154,14 +171,10 @@ def _fill_matrix(
     data: np.ndarray,
 ) -> None:
     """Values of ``K = V/dt + L`` on the fixed pattern (drained pores: ``V/dt`` alone)."""
-    n = len(indptr) - 1
-    for i in range(n):
-        total = vol[i] / dt + g_out[i]
+    for i in range(len(indptr) - 1):
         for e in range(indptr[i], indptr[i + 1]):
-            g = g_eff[thr[e]]
-            total += g
-            data[off[e]] = -g
-        data[diag[i]] = total
+            data[off[e]] = -g_eff[thr[e]]
+        data[diag[i]] = _diagonal(i, dt, indptr, thr, vol, g_eff, g_out)
 
 
 @njit
@@ -455,11 +468,10 @@ def _fill_diagonal(
     g_out: np.ndarray,
     diag: np.ndarray,
 ) -> None:
+    """The diagonal of ``K = V/dt + L`` (the grid Cholesky reads the off-diagonal from
+    ``g_eff``)."""
     for i in range(len(indptr) - 1):
-        total = vol[i] / dt + g_out[i]
-        for e in range(indptr[i], indptr[i + 1]):
-            total += g_eff[thr[e]]
-        diag[i] = total
+        diag[i] = _diagonal(i, dt, indptr, thr, vol, g_eff, g_out)
 
 
 class _GridCholesky:

@@ -165,11 +165,16 @@ def invader_pressure(dt: float, n_on: int, menisci: tuple, pump: tuple) -> float
 def meniscus_fluxes(dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray) -> float:
     """Solve a step of ``dt``: write each listed meniscus' flux into ``q_out[:n_on]`` and
     return the invading pressure at its end."""
-    on_p = menisci[1]
+    on_p, head, nxt = menisci[1], menisci[3], menisci[4]
     pnew = invader_pressure(dt, n_on, menisci, pump)
     for s in range(n_on):
-        _q, _dq, d, slider, lam = pore_response(on_p[s], pnew, dt, menisci)
-        q_out[s] = meniscus_flux(s, d, slider, lam, menisci)
+        i = on_p[s]
+        if head[i] == s:  # each pore once, then each of its menisci
+            _q, _dq, d, slider, lam = pore_response(i, pnew, dt, menisci)
+            r = s
+            while r >= 0:
+                q_out[r] = meniscus_flux(r, d, slider, lam, menisci)
+                r = nxt[r]
     return pnew
 
 
