@@ -113,6 +113,13 @@ class RunData:
         with units as in :data:`TIMESERIES_UNITS`; empty for static models.
     snapshots : list of Snapshot
         Pressure snapshots of dynamic models, in time order; empty for static models.
+    mechanics_final : dict of str to ndarray
+        Deformable media: ``spring_compression`` (M,) m, ``spring_force`` (M,) N,
+        ``removed_springs`` (M,) bool, ``displacement`` (n_particles, 2) m, at the end.
+    mechanics_series : dict of str to ndarray (U,)
+        Deformable media, one entry per mechanical update: ``time`` (s; 0 in quasi-static
+        runs), ``drained`` (pores), ``removed_springs``, ``max_aperture_change`` (m),
+        ``balance_residual`` (N).
     """
 
     porenet_version: str
@@ -134,6 +141,8 @@ class RunData:
     burst_sizes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     timeseries: dict[str, np.ndarray] = field(default_factory=dict)
     snapshots: list[Snapshot] = field(default_factory=list)
+    mechanics_final: dict[str, np.ndarray] = field(default_factory=dict)
+    mechanics_series: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def n_pores(self) -> int:

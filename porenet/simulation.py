@@ -56,7 +56,11 @@ class Simulation:
             getattr(scene.fluid, "viscosity", None),
         )
         self.context = RunContext(
-            self.scales, scene.injection, scene.stop, np.random.default_rng(model_seed)
+            self.scales,
+            scene.injection,
+            scene.stop,
+            np.random.default_rng(model_seed),
+            deformable=plan.builds("solid"),
         )
         fluid_cls = self.registry.get("fluid", scene.fluid.kind).load()
         self.fluid: FluidModel = fluid_cls(scene.fluid, self.lattice, self.context)
@@ -70,6 +74,7 @@ class Simulation:
                 raise ConfigError(f"solid kind {scene.solid.kind!r} names no coupler")
             coupler_entry = self.registry.get("coupler", coupler_kind)
             self.coupler = coupler_entry.load()(scene.solid, self.context)  # type: ignore[misc]
+            self.fluid.step_limit = self.coupler.max_steps()
         self.observers: list[Observer] = []
         for obs_config in scene.observers:
             self.observers.append(self.registry.get("observer", obs_config.kind).load()(obs_config))
@@ -146,8 +151,12 @@ class Simulation:
                     f"fluid model {type(self.fluid).__name__} made no progress (no pore drained, "
                     f"time unchanged) after {state.n_drained} drained pores at step {state.step}"
                 )
-            if self.coupler is not None and self.solid is not None:
-                self.coupler.exchange(state, self.solid, events)
+            if (
+                self.coupler is not None
+                and self.solid is not None
+                and self.coupler.exchange(state, self.solid, events)
+            ):
+                self.fluid.apertures_changed(state)
             for obs in self.observers:
                 if obs.trigger.fires(state):
                     obs.observe(state)
@@ -194,6 +203,8 @@ class Simulation:
             "largest_burst": int(bursts.max()) if bursts.size else 0,
         }
         summary.update(self.fluid.summary(state))
+        if self.solid is not None:
+            summary.update(self.solid.summary(state))
         return RunData(
             porenet_version=__version__,
             scene=self.plan.scene.model_dump(mode="json"),
@@ -213,7 +224,26 @@ class Simulation:
             burst_sizes=bursts,
             final_apertures=(state.apertures * sc.length if self.solid is not None else None),
             **self._outputs(),
+            **self._solid_outputs(),
         )
+
+    def _solid_outputs(self) -> dict[str, Any]:
+        """The solid model's final fields and per-update series (:meth:`SolidModel.outputs`)
+        in SI."""
+        if self.solid is None:
+            return {}
+        sc = self.scales
+        raw = self.solid.outputs(self.state)
+        force = sc.pressure * sc.area
+        units = {"spring_compression": sc.length, "spring_force": force,
+                 "displacement": sc.length, "time": sc.time or 1.0,
+                 "max_aperture_change": sc.length, "balance_residual": force}  # fmt: skip
+        convert = {
+            key: {k: np.asarray(v) * units.get(k, 1) if np.asarray(v).dtype != bool else v
+                  for k, v in raw.get(key, {}).items()}
+            for key in ("final", "series")
+        }  # fmt: skip
+        return {"mechanics_final": convert["final"], "mechanics_series": convert["series"]}
 
     def _outputs(self) -> dict[str, Any]:
         """The fluid model's time series and snapshots (:meth:`FluidModel.outputs`) in SI."""

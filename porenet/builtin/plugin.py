@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+from porenet.builtin.couplers.pressure_aperture import (
+    PressureApertureConfig,
+    PressureApertureCoupler,
+)
 from porenet.builtin.fluids.invasion_percolation import (
     InvasionPercolation,
     InvasionPercolationConfig,
@@ -9,6 +13,7 @@ from porenet.builtin.fluids.invasion_percolation import (
 from porenet.builtin.fluids.viscous import ViscousConfig
 from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
 from porenet.builtin.observers.progress import Progress, ProgressConfig
+from porenet.builtin.solids.hertz import HertzConfig
 from porenet.builtin.solids.rigid import RigidConfig
 from porenet.hooks import Register, hookimpl
 
@@ -27,6 +32,12 @@ def porenet_register_fluid_models(register: Register) -> None:
 @hookimpl
 def porenet_register_solid_models(register: Register) -> None:
     register(RigidConfig, None)
+    register(HertzConfig, "porenet.builtin.solids.hertz:HertzSolid")
+
+
+@hookimpl
+def porenet_register_couplers(register: Register) -> None:
+    register(PressureApertureConfig, PressureApertureCoupler)
 
 
 @hookimpl

@@ -48,12 +48,17 @@ class RunContext:
         The validated ``[stop]`` section (a hint: models may stop computing early).
     rng : numpy.random.Generator
         The run's generator, seeded from the scene's seed (the only source of randomness).
+    deformable : bool
+        True when a solid model will change ``state.apertures`` during the run (the fluid
+        model must then not precompute anything from the initial apertures, and is told of
+        each change through :meth:`FluidModel.apertures_changed`).
     """
 
     scales: Scales
     injection: Any
     stop: Any
     rng: np.random.Generator = field(repr=False)
+    deformable: bool = False
 
 
 class Lattice(ABC):
@@ -148,6 +153,34 @@ class Lattice(ABC):
         """(n_particles, 2) float: particle centres in units of ``a``."""
         raise NotImplementedError(f"{type(self).__name__} does not describe its particles")
 
+    @cached_property
+    def pore_particle_pairs(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(pores, particles)``, int64 arrays of equal length: which particles each pore's
+        fluid pushes on (MODEL.md section 5).
+
+        Default: a pore touches the two particles of the spring across each of its throats
+        (on the square lattice, the pore's four corners; a corner pore misses its outer corner,
+        which is fixed anyway). Sorted by pore, then particle."""
+        tp = np.asarray(self.throat_pores, dtype=np.int64)
+        sp = np.asarray(self.spring_particles, dtype=np.int64)
+        pores = np.concatenate([tp[:, 0], tp[:, 0], tp[:, 1], tp[:, 1]])
+        particles = np.concatenate([sp[:, 0], sp[:, 1], sp[:, 0], sp[:, 1]])
+        n_particles = int(np.asarray(self.particle_coords).shape[0])
+        unique = np.unique(pores * n_particles + particles)
+        return unique // n_particles, unique % n_particles
+
+    @cached_property
+    def fixed_particles(self) -> np.ndarray:
+        """(n_particles,) bool: particles held fixed (the confining boundary).
+
+        Default: the particles on the bounding box of all particles (the outer ring of a
+        rectangular lattice)."""
+        xy = np.asarray(self.particle_coords, dtype=np.float64)
+        span = float(np.ptp(xy, axis=0).max()) or 1.0
+        tol = 1e-9 * span
+        lo, hi = xy.min(axis=0), xy.max(axis=0)
+        return np.any((xy <= lo + tol) | (xy >= hi - tol), axis=1)
+
     # -- derived --------------------------------------------------------------------------
     @cached_property
     def adjacency(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -203,6 +236,11 @@ class FluidModel(ABC):
 
     solves_pressure: ClassVar[bool] = False
 
+    #: Most time steps one :meth:`advance` may take (None: the model's own chunk). The
+    #: Simulation sets it from :meth:`Coupler.max_steps` so that a deformable solid can be
+    #: updated between fluid steps; models whose steps each drain one pore may ignore it.
+    step_limit: int | None = None
+
     def __init__(self, config: ModelConfig, lattice: Lattice, context: RunContext) -> None:
         self.config = config
         self.lattice = lattice
@@ -230,6 +268,14 @@ class FluidModel(ABC):
 
     def finalize(self, state: State) -> None:  # noqa: B027 - optional hook
         """Called once after the loop (e.g. to settle the final trapped set)."""
+
+    def apertures_changed(self, state: State) -> None:
+        """Called after the Coupler changed ``state.apertures`` (deformable media only):
+        recompute whatever depends on them. Models that cannot follow changing apertures
+        keep this default, which refuses."""
+        raise NotImplementedError(
+            f"fluid model {type(self).__name__} does not support deformable media"
+        )
 
     def summary(self, state: State) -> dict[str, Any]:
         """Scalar results (SI) for the run file's ``/summary`` group."""
@@ -262,7 +308,20 @@ class SolidModel(ABC):
 
     @abstractmethod
     def update(self, state: State, pore_pressure: np.ndarray) -> np.ndarray:
-        """Impose force balance under ``pore_pressure``; return the aperture change per throat."""
+        """Impose force balance under ``pore_pressure`` (gamma / a, every pore), write the new
+        ``state.apertures`` and return the aperture change per throat (a)."""
+
+    def summary(self, state: State) -> dict[str, Any]:
+        """Scalar results (SI) for the run file's ``/summary`` group."""
+        return {}
+
+    def outputs(self, state: State) -> dict[str, Any]:
+        """Further records, scaled: optional ``"final"`` (``spring_compression`` (M,),
+        ``spring_force`` (M,), ``removed_springs`` (M,) bool, ``displacement``
+        (n_particles, 2)) and ``"series"`` (per update: ``time``, ``drained``,
+        ``removed_springs``, ``max_aperture_change``, ``balance_residual``). The Simulation
+        converts them to SI."""
+        return {}
 
 
 class Coupler(ABC):
@@ -276,11 +335,17 @@ class Coupler(ABC):
         self.context = context
 
     @abstractmethod
-    def exchange(self, state: State, solid: SolidModel, events: int) -> None:
-        """Called after every fluid advance that drained ``events`` pores."""
+    def exchange(self, state: State, solid: SolidModel, events: int) -> bool:
+        """Called after every fluid advance that drained ``events`` pores; returns True when
+        it changed ``state.apertures`` (the Simulation then calls
+        :meth:`FluidModel.apertures_changed`)."""
 
     def max_events(self) -> int | None:
         """Largest number of drainage events the fluid may take between exchanges."""
+        return None
+
+    def max_steps(self) -> int | None:
+        """Largest number of fluid time steps between exchanges (None: no limit)."""
         return None
 
 

@@ -18,6 +18,18 @@ from porenet.result import TIMESERIES_UNITS, RunData, Snapshot
 #: ``/snapshots``; the reader still reads version 1 and refuses versions it does not know.
 FORMAT_VERSION = 2
 
+#: Solid fields in ``/final`` (deformable media), in canonical spring (= throat) order.
+MECHANICS_FINAL = ("spring_compression", "spring_force", "removed_springs", "displacement")
+
+#: Units of the per-update series in ``/mechanics`` (deformable media).
+MECHANICS_UNITS = {
+    "time": "s",
+    "drained": "pores",
+    "removed_springs": "springs",
+    "max_aperture_change": "m",
+    "balance_residual": "N",
+}
+
 
 def _grid(data: RunData, values: np.ndarray) -> np.ndarray:
     return data.as_grid(values) if data.grid_shape is not None else np.asarray(values)
@@ -100,6 +112,13 @@ def write_run(path: str | Path, data: RunData) -> Path:
                 fin.create_dataset("pressure", data=_grid(data, data.pressure), compression="gzip")
             if data.final_apertures is not None:
                 fin.create_dataset("apertures", data=data.final_apertures, compression="gzip")
+            for name, values in data.mechanics_final.items():
+                fin.create_dataset(name, data=np.asarray(values), compression="gzip")
+            if data.mechanics_series:
+                mech = f.create_group("mechanics", track_order=True)
+                for name, values in data.mechanics_series.items():
+                    ds = mech.create_dataset(name, data=np.asarray(values), compression="gzip")
+                    ds.attrs["units"] = MECHANICS_UNITS.get(name, "")
             inv = f.create_group("invasion")
             inv.create_dataset("order", data=data.order, compression="gzip")
             inv.create_dataset("throat", data=data.throat, compression="gzip")
@@ -180,6 +199,12 @@ def read_run(path: str | Path) -> RunData:
         timeseries: dict[str, np.ndarray] = {}
         if "timeseries" in f:
             timeseries = {name: np.asarray(ds[()]) for name, ds in f["timeseries"].items()}
+        mechanics_final = {
+            name: np.asarray(f["final"][name][()]) for name in MECHANICS_FINAL if name in f["final"]
+        }
+        mechanics_series: dict[str, np.ndarray] = {}
+        if "mechanics" in f:
+            mechanics_series = {name: np.asarray(ds[()]) for name, ds in f["mechanics"].items()}
         snapshots: list[Snapshot] = []
         if "snapshots" in f:
             snaps = f["snapshots"]
@@ -214,4 +239,6 @@ def read_run(path: str | Path) -> RunData:
             summary=summary,
             timeseries=timeseries,
             snapshots=snapshots,
+            mechanics_final=mechanics_final,
+            mechanics_series=mechanics_series,
         )

@@ -69,8 +69,11 @@ ACC = {
     "released": 6,  # storage V_i p_i discarded when pore i drains
     "drained_pore_volume": 7,  # sum of V_i over drained pores
     "stored_reservoir": 8,  # integral of C dp_inv
+    # carried from one call to the next, so that a run does not depend on how it is chunked
+    "dt_next": 9,  # the step the accuracy limit predicts (inf before the first step)
+    "last_rate": 10,  # largest |dp/dt| of the last step (pressure control; inf at first)
 }
-N_ACC = 9
+N_ACC = 11
 
 #: Slots of the ``cnt`` array of counters.
 CNT = {"events": 0, "steps": 1, "n_front": 2, "n_active": 3, "where": 4, "breakthrough": 5}
@@ -325,9 +328,11 @@ def explicit_advance(
     nxt = np.empty(len(on_t), dtype=np.int64)
     head = np.full(len(p), -1, dtype=np.int64)
     near = np.empty(len(on_t), dtype=np.int64)  # slots in front of menisci near threshold
-    last_rate = np.inf  # largest |dp/dt| of the last step (for the stationarity test)
-    dt_next = dt_max  # the step the accuracy limit predicts
+    last_rate = acc[10]  # largest |dp/dt| of the last step (for the stationarity test)
+    dt_next = acc[9]  # the step the accuracy limit predicts
     while True:
+        acc[9] = dt_next
+        acc[10] = last_rate
         if events >= max_events or cnt[1] - steps_at_entry >= step_budget:
             return 0
         t = acc[0]

@@ -52,6 +52,10 @@ class InvasionPercolation(FluidModel):
         self._indptr, self._neighbours, _ = lat.adjacency
         self._outlet = lat.outlet_mask(at)
         self._entry = ip.entry_pressures(state.apertures)
+        self._online: tuple[np.ndarray, ...] | None = None
+        if self.context.deformable:
+            self._setup_online(state)
+            return
         max_steps = lat.n_pores if stop.max_drained is None else int(stop.max_drained)
         order, via = ip.invasion_sequence(
             lat.adjacency,
@@ -67,7 +71,72 @@ class InvasionPercolation(FluidModel):
         self._pressure = ip.step_pressures(self._entry, via)
         self._cursor = 0
 
+    def _setup_online(self, state: State) -> None:
+        """Deformable media: the invasion is computed one pore at a time
+        (:mod:`porenet.kernels.ip_online`), re-reading the frontier's entry pressures after
+        every mechanical update, with trapping detected as pores drain."""
+        from porenet.kernels import ip_online
+        from porenet.kernels.graph import max_degree
+
+        lat = self.lattice
+        indptr, neighbours, throats = (np.ascontiguousarray(a, np.int64) for a in lat.adjacency)
+        self._csr = (indptr, neighbours, throats)
+        self._outlet = np.ascontiguousarray(self._outlet, dtype=bool)
+        self._online = ip_online.online_state(lat.n_pores, lat.n_throats, max_degree(indptr))
+        inlets = np.ascontiguousarray(lat.inlet_pores(self.context.injection.at), np.int64)
+        ip_online.online_start(*self._csr, inlets, self._outlet, self.config.trapping,
+                               *self._online)  # fmt: skip
+        drained = self._online[0] == ip_online.DRAINED
+        pores = np.flatnonzero(drained)
+        state.drained[pores] = True
+        k = len(pores)
+        state.record.extend(pores, np.full(k, -1), np.zeros(k), np.zeros(k))
+        state.n_drained = k
+        state.breakthrough = bool(self._outlet[pores].any())
+        self._exhausted = False
+        stop = self.context.stop
+        self._max_steps = None if stop.max_drained is None else int(stop.max_drained)
+
+    def apertures_changed(self, state: State) -> None:
+        """Re-read the entry pressures of the frontier throats (the only ones the next step
+        compares) from the deformed apertures."""
+        from porenet.kernels.ip_online import online_frontier
+
+        if self._online is None:  # pragma: no cover - the Simulation plans deformable runs
+            raise NotImplementedError("invasion percolation was set up for a rigid medium")
+        front = online_frontier(self._online)
+        self._entry[front] = 2.0 / state.apertures[front]
+
+    def _advance_online(self, state: State, max_events: int) -> int:
+        from porenet.kernels.ip_online import online_step
+
+        assert self._online is not None
+        stop = self.context.stop
+        done = 0
+        while done < max_events and not self._exhausted:
+            pore, throat, pressure = online_step(
+                *self._csr, self._entry, self._outlet, self.config.trapping, *self._online
+            )
+            if pore < 0:
+                self._exhausted = True
+                break
+            state.drained[pore] = True
+            state.record.extend(
+                np.array([pore]), np.array([throat]), np.array([pressure]), np.zeros(1)
+            )
+            state.n_drained += 1
+            state.invading_pressure = float(pressure)
+            done += 1
+            if self._outlet[pore]:
+                state.breakthrough = True
+                if stop.at == "breakthrough":
+                    self._exhausted = True
+        state.step += 1
+        return done
+
     def advance(self, state: State, max_events: int) -> int:
+        if self._online is not None:
+            return self._advance_online(state, max_events)
         start = self._cursor
         stop = min(len(self._order), start + max(int(max_events), 0))
         if stop <= start:
@@ -87,6 +156,8 @@ class InvasionPercolation(FluidModel):
 
     @property
     def exhausted(self) -> bool:
+        if self._online is not None:
+            return self._exhausted
         return self._cursor >= len(self._order)
 
     def finalize(self, state: State) -> None:

@@ -9,7 +9,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from porenet.config.base import ModelConfig
-from porenet.core.errors import NumericalError
+from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.interfaces import FluidModel
 from porenet.core.state import State
 
@@ -225,6 +225,13 @@ class ViscousDrainage(FluidModel):
         at 7 244 (Ca = 1e-5). The bound grows like sqrt(N) because an implicit step factorises
         the pore matrix (~N^1.5 on a grid) where an explicit one sweeps it (~N)."""
         choice = self.config.integrator
+        if self.context.deformable:
+            if choice == "implicit":
+                raise ConfigError(
+                    "fluid.integrator = 'implicit' does not follow changing apertures yet; "
+                    "use 'explicit' (or 'auto') with a deformable solid"
+                )
+            return "explicit"
         if choice != "auto":
             return choice
         if self.config.control != "rate" or self._q <= 0:
@@ -308,6 +315,7 @@ class ViscousDrainage(FluidModel):
         self._on_t, self._on_p = np.zeros(m, dtype=np.int64), np.zeros(m, dtype=np.int64)
         self._landing = np.zeros(m)
         self._acc = np.zeros(vk.N_ACC)
+        self._acc[[vk.ACC["dt_next"], vk.ACC["last_rate"]]] = np.inf
         self._acc[vk.ACC["invading_pressure"]] = (
             self.config.injection_pressure / self.context.scales.pressure
         )
@@ -381,7 +389,7 @@ class ViscousDrainage(FluidModel):
                 self._series, self._dt, self._control, self._q, self._capacity,
                 self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
                 cfg.pressure_floor, self._pressure_step, MENISCUS_LENGTH, budget, t_end,
-                cfg.max_steps, stop.at == "breakthrough", _STEP_CHUNK,
+                cfg.max_steps, stop.at == "breakthrough", self._step_chunk(),
             )  # fmt: skip
         self._sync(state)
         if status in (3, 4):
@@ -427,8 +435,37 @@ class ViscousDrainage(FluidModel):
             self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
             MENISCUS_LENGTH, self.dt_stable, self._pressure_scale, cfg.tolerance,
             cfg.event_tolerance, cfg.pressure_floor, budget, t_end, cfg.max_steps,
-            stop.at == "breakthrough", _STEP_CHUNK,
+            stop.at == "breakthrough", self._step_chunk(),
         )  # fmt: skip
+
+    def _step_chunk(self) -> int:
+        """Most time steps per kernel call: the coupler's limit (:attr:`step_limit`) if any."""
+        return _STEP_CHUNK if self.step_limit is None else min(_STEP_CHUNK, self.step_limit)
+
+    def apertures_changed(self, state: State) -> None:
+        """Recompute the throat areas, conductances and entry pressures from the deformed
+        apertures (in place: the kernels keep reading the same arrays), and the stable time
+        step, which shrinks as throats open (``g ~ r**4``). The time-step safety factor and
+        the accuracy limits keep their values; pore volumes do not change."""
+        if self.integrator == "implicit":
+            raise NotImplementedError(
+                "the implicit integrator does not follow changing apertures yet; use "
+                "fluid.integrator = 'explicit' with a deformable solid"
+            )
+        c_area, c_perm = self.lattice.throat_factors
+        r = np.asarray(state.apertures, dtype=np.float64)
+        np.multiply(c_area, r**2, out=self._area)
+        np.multiply(self._area, c_perm * r**2, out=self._g_num)
+        np.divide(self._g_num, MENISCUS_LENGTH, out=self._g_eff)
+        touches_invader = state.drained[self._tp[:, 0]] | state.drained[self._tp[:, 1]]
+        self._g_eff[touches_invader] = 0.0
+        np.divide(2.0, r, out=self._pe)
+        # as at setup: every throat counts, so an undeformed medium keeps its time step
+        g_all = self._g_num / MENISCUS_LENGTH
+        degree_sum = np.bincount(self._tp[:, 0], g_all, minlength=len(self._vol))
+        degree_sum += np.bincount(self._tp[:, 1], g_all, minlength=len(self._vol))
+        self.dt_stable = float(np.min(self._vol / (degree_sum + self._g_out)))
+        self._dt = self.config.safety_factor * self.dt_stable
 
     def _sync(self, state: State) -> None:
         """Copy the kernel's counters into the State and extend the record."""

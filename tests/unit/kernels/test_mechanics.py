@@ -1,0 +1,199 @@
+"""The block-and-spring kernels: Hertz laws, force balance, symmetry, solvers, contact loss."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
+from porenet.kernels import mechanics as mk
+
+MODULUS = 4.47  # E* a / gamma at N_f = 10, lambda = 0.1, eps_0 = 0.05
+H0 = 0.1
+
+
+class Network:
+    """The square lattice's solid network, optionally rotated (then no chains exist)."""
+
+    def __init__(self, n: int, angle: float = 0.0) -> None:
+        lat = SquareLattice(SquareLatticeConfig(n=n, disorder=0.1), np.random.default_rng(0))
+        c, s = np.cos(angle), np.sin(angle)
+        rot = np.array([[c, -s], [s, c]])
+        self.n = n
+        self.xy = lat.particle_coords @ rot.T
+        self.pore_xy = lat.pore_coords @ rot.T
+        self.springs = lat.spring_particles
+        self.fixed = lat.fixed_particles  # the ring, from the unrotated lattice
+        self.axis = mk.spring_axes(self.springs, self.xy)
+        self.pair_pore, self.pair_particle = lat.pore_particle_pairs
+        self.dirs = mk.pore_particle_directions(
+            self.pair_pore, self.pair_particle, self.pore_xy, self.xy
+        )
+        self.chains = mk.find_chains(self.springs, self.axis, self.fixed)
+        m = len(self.springs)
+        self.h = np.full(m, H0)
+        self.force = mk.hertz_force(self.h, MODULUS)
+        self.k0 = float(mk.hertz_stiffness(H0, MODULUS))
+
+    def load(self, pressure: np.ndarray) -> np.ndarray:
+        out = np.zeros_like(self.xy)
+        mk.pressure_loads(pressure, self.pair_pore, self.pair_particle, self.dirs, 1.0, out)
+        return out
+
+    def solve(self, pressure, solver="chains", cohesion=1e-6, recontact=True, mode=None, h=None):
+        mode = np.zeros(len(self.springs), np.int8) if mode is None else mode.copy()
+        h = self.h if h is None else h
+        force = np.where(mode == mk.OPEN, cohesion * self.k0 * h, mk.hertz_force(h, MODULUS))
+        load = self.load(pressure)
+        k_c = cohesion * self.k0
+        if solver == "chains":
+            du = np.zeros_like(self.xy)
+            dh = np.zeros(len(self.springs))
+            f_new = np.zeros(len(self.springs))
+            _, unsettled = mk.solve_chains(
+                *self.chains, self.xy, load, h, force, mode, MODULUS, k_c, self.k0,
+                recontact, 50, du, dh, f_new,
+            )  # fmt: skip
+        else:
+            du, dh, f_new, _, unsettled = mk.solve_sparse(
+                self.springs, self.axis, self.fixed, load, h, force, mode, MODULUS, k_c,
+                self.k0, recontact, 50,
+            )  # fmt: skip
+        residual = mk.balance_residual(load, f_new, self.springs, self.axis, self.fixed)
+        return SimpleNamespace(
+            du=du, dh=dh, force=f_new, mode=mode, residual=residual, unsettled=unsettled
+        )
+
+
+def test_hertz_stiffness_is_the_derivative_of_the_force():
+    h = np.linspace(0.01, 0.3, 7)
+    eps = 1e-7
+    numeric = (mk.hertz_force(h + eps, 2.0) - mk.hertz_force(h - eps, 2.0)) / (2 * eps)
+    np.testing.assert_allclose(mk.hertz_stiffness(h, 2.0), numeric, rtol=1e-6)
+    assert mk.hertz_force(-0.1, 2.0) == 0.0 and mk.hertz_stiffness(-0.1, 2.0) == 0.0
+
+
+def test_aperture_change_formula():
+    # eps = h / 2a = 0.05: dr = -dh 0.95 / (2 sqrt(1 + 0.95^2))
+    dr = mk.aperture_change(np.array([0.01]), np.array([0.1]))
+    assert dr[0] == pytest.approx(-0.01 * 0.95 / (2 * np.sqrt(1 + 0.95**2)), rel=1e-14)
+
+
+def test_square_lattice_decomposes_into_chains():
+    net = Network(6)
+    ptr, particles, springs, axis = net.chains
+    assert len(axis) == 2 * (6 - 1)  # one chain per interior row and column
+    assert sorted(springs.tolist()) == list(range(len(net.springs)))
+    assert np.all(net.fixed[particles[ptr[:-1]]]) and np.all(net.fixed[particles[ptr[1:] - 1]])
+    assert Network(6, angle=0.3).chains is None
+
+
+def test_uniform_pressure_moves_nothing():
+    net = Network(9)
+    out = net.solve(np.full(81, 1.7))
+    assert np.max(np.abs(out.du)) < 1e-14
+    assert np.max(np.abs(out.dh)) < 1e-14
+    assert out.residual < 1e-13
+
+
+def test_single_pressurised_pore_pushes_its_four_particles_symmetrically():
+    n = 9
+    net = Network(n)
+    p = np.zeros(n * n)
+    centre = (n // 2) * n + n // 2
+    p[centre] = 0.5
+    du = net.solve(p).du
+    corners = net.pair_particle[net.pair_pore == centre]
+    outward = net.xy[corners] - net.pore_xy[centre]
+    # each corner moves away from the pore centre, along the diagonal, by the same amount
+    assert np.all(np.einsum("ij,ij->i", du[corners], outward) > 0)
+    magnitudes = np.abs(du[corners])
+    np.testing.assert_allclose(magnitudes, magnitudes[0, 0], rtol=1e-12)
+    # the whole field is mirror-symmetric about the pore's centre lines
+    grid = du.reshape(n + 1, n + 1, 2)
+    np.testing.assert_allclose(grid[:, ::-1, 0], -grid[:, :, 0], atol=1e-15)
+    np.testing.assert_allclose(grid[::-1, :, 1], -grid[:, :, 1], atol=1e-15)
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**31), scale=st.floats(0.01, 5.0))
+def test_chains_and_sparse_agree_and_balance_forces(seed, scale):
+    net = Network(7)
+    p = np.random.default_rng(seed).uniform(0, scale, 49)
+    a = net.solve(p, "chains")
+    b = net.solve(p, "sparse")
+    force_scale = max(1.0, float(np.abs(a.force).max()))
+    assert a.residual < 1e-12 * force_scale and b.residual < 1e-12 * force_scale  # balance
+    np.testing.assert_array_equal(a.mode, b.mode)  # same contacts lost
+    np.testing.assert_allclose(a.du, b.du, atol=1e-9 * (1 + np.abs(a.du).max()))
+
+
+def test_sparse_solver_is_rotation_invariant():
+    p = np.random.default_rng(3).uniform(0, 0.5, 36)
+    straight = Network(6)
+    turned = Network(6, angle=0.4)
+    a = straight.solve(p, "chains")
+    b = turned.solve(p, "sparse")
+    c, s = np.cos(0.4), np.sin(0.4)
+    np.testing.assert_allclose(b.du, a.du @ np.array([[c, -s], [s, c]]).T, atol=1e-12)
+    np.testing.assert_allclose(b.dh, a.dh, atol=1e-12)
+
+
+def test_tension_removes_springs_and_balance_still_holds():
+    n = 9
+    net = Network(n)
+    p = np.zeros(n * n)
+    p[(n // 2) * n + n // 2] = 3.0  # far above the prestress force: the pore's springs open
+    out = net.solve(p)
+    opened = out.mode == mk.OPEN
+    assert opened.any() and out.unsettled == 0
+    assert np.all(net.h[opened] + out.dh[opened] <= 0)  # removed springs are in tension
+    assert np.all(net.h[~opened] + out.dh[~opened] > 0)  # the others still in contact
+    assert out.residual < 1e-12
+
+
+def floating_particle(net: Network, cohesion: float) -> np.ndarray:
+    """Open every spring of an interior particle (gaps of 0.05 a) and push it along x."""
+    n = net.n
+    q = (n // 2) * (n + 1) + n // 2
+    mine = np.flatnonzero((net.springs == q).any(axis=1))
+    mode = np.zeros(len(net.springs), np.int8)
+    mode[mine] = mk.OPEN
+    h = net.h.copy()
+    h[mine] = -0.05
+    # pressure in the two pores left of the particle only: a net push along +x
+    p = np.zeros(n * n)
+    row, col = n // 2, n // 2
+    p[[(row - 1) * n + col - 1, row * n + col - 1]] = 0.2
+    out = net.solve(p, cohesion=cohesion, mode=mode, h=h)
+    assert out.unsettled == 0 and out.residual < 1e-12
+    return out.du
+
+
+def test_floating_particle_stops_at_its_neighbour_whatever_the_cohesion():
+    net = Network(9)
+    results = [floating_particle(net, c) for c in (1e-9, 1e-7, 1e-5)]
+    q = (9 // 2) * 10 + 9 // 2
+    # it crosses its 0.05 a gap and pushes on: bounded, not F / k_c
+    assert 0.05 < results[0][q, 0] < 1.0
+    for other in results[1:]:
+        np.testing.assert_allclose(other, results[0], atol=1e-4)
+
+
+def test_without_recontact_a_floating_particle_is_held_only_by_cohesion():
+    net = Network(9)
+    n = 9
+    q = (n // 2) * (n + 1) + n // 2
+    mine = np.flatnonzero((net.springs == q).any(axis=1))
+    mode = np.zeros(len(net.springs), np.int8)
+    mode[mine] = mk.OPEN
+    h = net.h.copy()
+    h[mine] = -0.05
+    p = np.zeros(n * n)
+    p[[(n // 2 - 1) * n + n // 2 - 1, (n // 2) * n + n // 2 - 1]] = 0.2
+    du = net.solve(p, recontact=False, mode=mode, h=h, cohesion=1e-6).du
+    assert du[q, 0] > 100.0  # the regularisation alone: why 'restore' is the default

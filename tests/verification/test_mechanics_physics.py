@@ -1,0 +1,154 @@
+"""Deformable media end to end: limits, Eq. 2, fracturing, cohesion, hard cases, records."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import porenet
+from porenet.core.plan import make_plan
+from porenet.hooks import get_registry
+from porenet.io.runfile import read_run
+
+GAMMA, A, LAM, EPS0 = 0.07, 1e-7, 0.1, 0.05
+
+
+def scene(n=30, fluid=None, seed=1, **solid):
+    solid = {"kind": "hertz", **solid} if solid else {"kind": "rigid"}
+    return {
+        "seed": seed,
+        "lattice": {"n": n, "disorder": LAM, "pore_size": A},
+        "fluid": fluid or {"kind": "invasion-percolation"},
+        "solid": solid,
+    }
+
+
+VISCOUS = {"kind": "viscous", "capillary_number": 1e-2, "integrator": "explicit"}
+
+
+def longest_straight_run(drained: np.ndarray, n: int) -> int:
+    grid = drained.reshape(n, n)
+    best = 0
+    for g in (grid, grid.T):
+        for row in g:
+            run = 0
+            for x in row:
+                run = run + 1 if x else 0
+                best = max(best, run)
+    return best
+
+
+def test_fracturing_number_from_modulus_matches_eq2():
+    modulus = 3e9
+    res = porenet.run(scene(n=12, modulus=modulus))
+    expected = GAMMA / (LAM * A * modulus * math.sqrt(EPS0))
+    assert res.summary["fracturing_number"] == pytest.approx(expected, rel=1e-12)
+    assert res.summary["modulus"] == pytest.approx(modulus, rel=1e-12)
+
+
+def test_modulus_from_fracturing_number_inverts_eq2():
+    res = porenet.run(scene(n=12, fracturing_number=0.5))
+    expected = GAMMA / (LAM * A * 0.5 * math.sqrt(EPS0))
+    assert res.summary["modulus"] == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize("fluid", [None, VISCOUS], ids=["ip", "viscous"])
+def test_infinite_stiffness_reproduces_the_rigid_run(fluid):
+    rigid = porenet.run(scene(n=24, fluid=fluid))
+    stiff = porenet.run(scene(n=24, fluid=fluid, fracturing_number=1e-9))
+    np.testing.assert_array_equal(stiff.data.order, rigid.data.order)
+    np.testing.assert_array_equal(stiff.data.throat, rigid.data.throat)
+    assert stiff.summary["springs_removed"] == 0
+    np.testing.assert_allclose(stiff.data.final_apertures, rigid.data.apertures, rtol=1e-9)
+    if fluid is not None:
+        np.testing.assert_allclose(stiff.data.invasion_time, rigid.data.invasion_time, rtol=1e-7)
+
+
+@pytest.mark.parametrize("fluid", [None, VISCOUS], ids=["ip", "viscous"])
+def test_low_fracturing_number_matches_the_rigid_pattern(fluid):
+    rigid = porenet.run(scene(n=24, fluid=fluid))
+    soft = porenet.run(scene(n=24, fluid=fluid, fracturing_number=0.01))
+    overlap = np.count_nonzero(soft.data.drained & rigid.data.drained) / np.count_nonzero(
+        soft.data.drained | rigid.data.drained
+    )
+    assert overlap >= 0.95, overlap
+
+
+@pytest.mark.parametrize("fluid", [None, VISCOUS], ids=["ip", "viscous"])
+def test_high_fracturing_number_opens_straight_segments(fluid):
+    n = 30
+    rigid = porenet.run(scene(n=n, fluid=fluid))
+    frac = porenet.run(scene(n=n, fluid=fluid, fracturing_number=3.0))
+    assert frac.summary["springs_removed"] >= 10
+    # a straight open segment across two thirds of the lattice, longer than any of the rigid
+    # pattern (seeds 1-3 at n = 30: 20-29 pores against 9-19 for the rigid medium)
+    straight = longest_straight_run(frac.data.drained, n)
+    assert straight >= 2 * n // 3
+    assert straight > longest_straight_run(rigid.data.drained, n)
+    removed = frac.data.mechanics_final["removed_springs"]
+    assert removed.sum() == frac.summary["springs_removed"]
+
+
+def test_quasi_static_coupling_updates_after_every_drained_pore():
+    res = porenet.run(scene(n=20, fracturing_number=1.0, coupling="every-step"))
+    assert res.summary["mechanical_updates"] == res.summary["n_drained"] - 1  # inlet excluded
+    series = res.data.mechanics_series
+    assert np.all(np.diff(series["drained"]) == 1)
+
+
+@pytest.mark.parametrize("fluid", [None, VISCOUS], ids=["ip", "viscous"])
+def test_results_do_not_depend_on_the_cohesion(fluid):
+    runs = [
+        porenet.run(scene(n=24, fluid=fluid, fracturing_number=3.0, cohesion=c))
+        for c in (1e-9, 1e-7, 1e-5)
+    ]
+    for other in runs[1:]:
+        np.testing.assert_array_equal(other.data.order, runs[0].data.order)
+        assert other.summary["springs_removed"] == runs[0].summary["springs_removed"]
+
+
+@pytest.mark.parametrize("nf", [1e-3, 1e-1, 1e1, 1e3])
+def test_hard_fracturing_numbers_stay_finite(nf):
+    for fluid in (None, VISCOUS):
+        res = porenet.run(scene(n=16, fluid=fluid, fracturing_number=nf))
+        assert res.summary["breakthrough"]
+        assert np.all(np.isfinite(res.data.final_apertures))
+        assert np.all(res.data.final_apertures > 0)
+        assert np.all(np.isfinite(res.data.mechanics_final["displacement"]))
+        assert res.summary["unsettled_updates"] == 0
+        assert res.summary["largest_balance_residual"] < 1e-9 * GAMMA * A
+
+
+def test_compaction_stops_at_the_aperture_floor_and_is_reported():
+    res = porenet.run(scene(n=16, fracturing_number=100.0, aperture_floor=0.9))
+    floor = 0.9 * A  # mean aperture = a
+    assert res.summary["apertures_at_floor"] > 0
+    assert res.data.final_apertures.min() >= floor * (1 - 1e-12)
+
+
+def test_rigid_plan_builds_no_mechanics_and_hertz_builds_both():
+    reg = get_registry()
+    rigid = make_plan(porenet.load_scene(scene(n=8)), reg)
+    assert not rigid.builds("solid") and not rigid.builds("coupler")
+    hertz = make_plan(porenet.load_scene(scene(n=8, fracturing_number=1.0)), reg)
+    assert hertz.builds("solid") and hertz.builds("coupler")
+    assert hertz.effects["deformation"] and hertz.effects["contact_loss"]
+
+
+def test_run_file_holds_the_solid_records(tmp_path):
+    path = tmp_path / "run.h5"
+    porenet.run(scene(n=16, fluid=VISCOUS, fracturing_number=3.0), output=path)
+    data = read_run(path)
+    m = 2 * 16 * 15
+    assert data.final_apertures.shape == (m,)
+    assert data.summary["springs_removed"] >= 1
+    assert "fracturing_number" in data.summary
+    final = data.mechanics_final
+    assert final["spring_compression"].shape == (m,) and final["spring_force"].shape == (m,)
+    assert final["removed_springs"].dtype == bool
+    assert final["displacement"].shape == (17 * 17, 2)
+    series = data.mechanics_series
+    assert set(series) >= {"time", "removed_springs", "max_aperture_change", "balance_residual"}
+    assert np.all(np.diff(series["time"]) >= 0) and series["time"][-1] > 0
