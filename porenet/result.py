@@ -63,6 +63,10 @@ class Snapshot:
         pores. Flat (``n_pores``), like the other pore arrays of :class:`RunData`.
     drained : ndarray (N,) bool
         Invader occupancy at ``time``.
+    mechanics : dict of str to ndarray
+        Deformable media: the solid at ``time`` (as of its last update): ``apertures`` (M,) m,
+        ``spring_compression`` (M,) m, ``spring_force`` (M,) N, ``removed_springs`` (M,) bool,
+        ``displacement`` (n_particles, 2) m. Empty for a rigid medium.
     """
 
     time: float
@@ -70,6 +74,7 @@ class Snapshot:
     invading_pressure: float
     pressure: np.ndarray
     drained: np.ndarray
+    mechanics: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 @dataclass

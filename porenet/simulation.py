@@ -143,6 +143,8 @@ class Simulation:
         for obs in self.observers:
             obs.trigger.reset()
             obs.attach(self)
+        #: The solid's fields at each of the fluid's snapshots (deformable media).
+        self._solid_snapshots: list[dict[str, np.ndarray]] = []
         while (reason := self._stop_reason()) is None:
             time_before = state.time
             events = self.fluid.advance(state, self._budget())
@@ -156,7 +158,11 @@ class Simulation:
                 and self.solid is not None
                 and self.coupler.exchange(state, self.solid, events)
             ):
-                self.fluid.apertures_changed(state)
+                self.fluid.apertures_changed(state, self.coupler.changed_throats)
+            if self.solid is not None:
+                snaps = getattr(self.fluid, "snapshots", ())
+                while len(self._solid_snapshots) < len(snaps):
+                    self._solid_snapshots.append(self.solid.snapshot(state))
             for obs in self.observers:
                 if obs.trigger.fires(state):
                     obs.observe(state)
@@ -232,18 +238,23 @@ class Simulation:
         in SI."""
         if self.solid is None:
             return {}
-        sc = self.scales
         raw = self.solid.outputs(self.state)
+        return {
+            "mechanics_final": self._solid_si(raw.get("final", {})),
+            "mechanics_series": self._solid_si(raw.get("series", {})),
+        }
+
+    def _solid_si(self, fields: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """Solid fields or series from scaled units to SI (boolean masks unchanged)."""
+        sc = self.scales
         force = sc.pressure * sc.area
-        units = {"spring_compression": sc.length, "spring_force": force,
+        units = {"spring_compression": sc.length, "spring_force": force, "apertures": sc.length,
                  "displacement": sc.length, "time": sc.time or 1.0,
                  "max_aperture_change": sc.length, "balance_residual": force}  # fmt: skip
-        convert = {
-            key: {k: np.asarray(v) * units.get(k, 1) if np.asarray(v).dtype != bool else v
-                  for k, v in raw.get(key, {}).items()}
-            for key in ("final", "series")
-        }  # fmt: skip
-        return {"mechanics_final": convert["final"], "mechanics_series": convert["series"]}
+        return {
+            k: v if np.asarray(v).dtype == bool else np.asarray(v) * units.get(k, 1.0)
+            for k, v in fields.items()
+        }
 
     def _outputs(self) -> dict[str, Any]:
         """The fluid model's time series and snapshots (:meth:`FluidModel.outputs`) in SI."""
@@ -251,6 +262,7 @@ class Simulation:
 
         sc = self.scales
         raw = self.fluid.outputs(self.state)
+        solid = getattr(self, "_solid_snapshots", [])
         unit = {"time": sc.time or 1.0, "invading_pressure": sc.pressure}
         for name in ("injected", "drained", "stored", "outflow", "released"):
             unit[name] = sc.volume
@@ -267,8 +279,9 @@ class Simulation:
                     invading_pressure=snap["invading_pressure"] * sc.pressure,
                     pressure=snap["pressure"] * sc.pressure,
                     drained=snap["drained"],
+                    mechanics=self._solid_si(solid[i]) if i < len(solid) else {},
                 )
-                for snap in raw["snapshots"]
+                for i, snap in enumerate(raw["snapshots"])
             ]
         return out
 

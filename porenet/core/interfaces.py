@@ -269,10 +269,11 @@ class FluidModel(ABC):
     def finalize(self, state: State) -> None:  # noqa: B027 - optional hook
         """Called once after the loop (e.g. to settle the final trapped set)."""
 
-    def apertures_changed(self, state: State) -> None:
+    def apertures_changed(self, state: State, throats: np.ndarray | None = None) -> None:
         """Called after the Coupler changed ``state.apertures`` (deformable media only):
-        recompute whatever depends on them. Models that cannot follow changing apertures
-        keep this default, which refuses."""
+        recompute whatever depends on them, for the given ``throats`` (None: any may have
+        changed). Models that cannot follow changing apertures keep this default, which
+        refuses."""
         raise NotImplementedError(
             f"fluid model {type(self).__name__} does not support deformable media"
         )
@@ -307,12 +308,29 @@ class SolidModel(ABC):
         """Called once before the loop (e.g. to apply the prestress)."""
 
     @abstractmethod
-    def update(self, state: State, pore_pressure: np.ndarray) -> np.ndarray:
-        """Impose force balance under ``pore_pressure`` (gamma / a, every pore), write the new
-        ``state.apertures`` and return the aperture change per throat (a)."""
+    def update(
+        self, state: State, pore_pressure: np.ndarray, tolerance: float = 0.0
+    ) -> np.ndarray | None:
+        """Impose force balance under ``pore_pressure`` (gamma / a, every pore) and write the
+        new solid fields and ``state.apertures`` (in place: the fluid model keeps reading the
+        same array). ``tolerance`` (units of a) is the deformation the solid may leave
+        unresolved where that saves work (the adaptive coupler's tolerance); 0 is exact.
+        Returns the throats whose aperture changed, or None for "possibly all"."""
 
     def summary(self, state: State) -> dict[str, Any]:
         """Scalar results (SI) for the run file's ``/summary`` group."""
+        return {}
+
+    @property
+    def compliance(self) -> float:
+        """Deformation a unit pressure change causes, in units of ``a`` per ``gamma / a``: the
+        adaptive coupler multiplies pressure changes by it to compare them with its tolerance
+        (default 1: the tolerance is then a pressure, in ``gamma / a``)."""
+        return 1.0
+
+    def snapshot(self, state: State) -> dict[str, np.ndarray]:
+        """Copies of the solid fields now, scaled (the keys of :meth:`outputs`' ``"final"``
+        plus ``apertures``), stored with the fluid's pressure snapshot taken at this moment."""
         return {}
 
     def outputs(self, state: State) -> dict[str, Any]:
@@ -334,11 +352,14 @@ class Coupler(ABC):
         self.config = config
         self.context = context
 
+    #: The throats whose aperture the last :meth:`exchange` changed (None: possibly all).
+    changed_throats: np.ndarray | None = None
+
     @abstractmethod
     def exchange(self, state: State, solid: SolidModel, events: int) -> bool:
         """Called after every fluid advance that drained ``events`` pores; returns True when
         it changed ``state.apertures`` (the Simulation then calls
-        :meth:`FluidModel.apertures_changed`)."""
+        :meth:`FluidModel.apertures_changed` with :attr:`changed_throats`)."""
 
     def max_events(self) -> int | None:
         """Largest number of drainage events the fluid may take between exchanges."""

@@ -146,6 +146,8 @@ def write_run(path: str | Path, data: RunData) -> Path:
                     for key in ("pressure", "drained"):
                         values = _grid(data, getattr(snap, key))
                         g.create_dataset(key, data=values, compression="gzip")
+                    for key, values in snap.mechanics.items():
+                        g.create_dataset(key, data=np.asarray(values), compression="gzip")
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
@@ -217,6 +219,11 @@ def read_run(path: str | Path) -> RunData:
                         invading_pressure=float(g.attrs["invading_pressure"]),
                         pressure=np.asarray(g["pressure"][()]).ravel(),
                         drained=np.asarray(g["drained"][()]).ravel(),
+                        mechanics={
+                            key: np.asarray(g[key][()])
+                            for key in ("apertures", *MECHANICS_FINAL)
+                            if key in g
+                        },
                     )
                 )
         return RunData(

@@ -271,3 +271,53 @@ def spread(
     box[1] = min(i1 + 1, n) if bottom else i1
     box[2] = max(j0 - 1, 0) if left else j0
     box[3] = min(j1 + 1, n) if right else j1
+
+
+@njit
+def refresh_throats(
+    throats: np.ndarray,
+    apertures: np.ndarray,
+    area_factor: float,
+    permeability_factor: float,
+    meniscus_length: float,
+    throat_pores: np.ndarray,
+    drained: np.ndarray,
+    area: np.ndarray,
+    g_num: np.ndarray,
+    g_eff: np.ndarray,
+    entry: np.ndarray,
+    indptr: np.ndarray,
+    thr: np.ndarray,
+    vol: np.ndarray,
+    g_out: np.ndarray,
+) -> float:
+    """Recompute the properties of the given throats from their apertures ``r`` (a), in place:
+    area ``A = c_A r^2``, ``A k`` with ``k = c_k r^2``, the conductance ``A k / l`` between
+    undrained pores (0 for a throat touching a drained pore), the entry pressure ``2 / r``.
+
+    Returns
+    -------
+    float
+        The explicit stability limit ``min V / (sum g + g_out)`` over the pores at either end
+        of the throats that now conduct more between undrained pores (inf if none: a throat
+        that narrowed cannot lower a limit). A limit computed while other throats of the
+        list are not refreshed yet is at most too small, never too large.
+    """
+    limit = np.inf
+    for e in range(throats.shape[0]):
+        t = throats[e]
+        r2 = apertures[t] * apertures[t]
+        area[t] = area_factor * r2
+        grew = area[t] * permeability_factor * r2 > g_num[t]
+        g_num[t] = area[t] * permeability_factor * r2
+        i, j = throat_pores[t, 0], throat_pores[t, 1]
+        g_eff[t] = 0.0 if (drained[i] or drained[j]) else g_num[t] / meniscus_length
+        entry[t] = 2.0 / apertures[t]
+        if not (grew and g_eff[t] > 0):
+            continue  # only a throat that conducts more can lower a pore's limit
+        for i in (throat_pores[t, 0], throat_pores[t, 1]):
+            total = g_out[i]
+            for k in range(indptr[i], indptr[i + 1]):
+                total += g_eff[thr[k]]
+            limit = min(limit, vol[i] / total)
+    return limit

@@ -46,13 +46,13 @@ not depend on ``k_c`` (tests/verification/test_mechanics_physics.py). A re-formi
 starts at ``h = 0``, where the Hertz tangent is zero, so it is given the
 prestress stiffness ``K_0`` for the update in which it forms, and the Hertz tangent afterwards.
 
-Chains
-------
+Solvers
+-------
 When every spring lies along x or y (the square lattice), x and y decouple and every line of
-springs between two fixed particles is an independent tridiagonal system (a *chain*, found by
-:func:`find_chains`), solved by the Thomas algorithm in O(N) with the contact iteration done
-per chain. Otherwise :func:`solve_sparse` assembles the 2-D stiffness matrix (scipy.sparse) and
-solves it with a sparse direct solver.
+springs between two fixed particles is an independent tridiagonal system (a *chain*), solved
+by the Thomas algorithm in O(N) with the contact iteration done per chain
+(:mod:`porenet.kernels.chains`). Otherwise :func:`solve_sparse` assembles the 2-D stiffness
+matrix (scipy.sparse) and solves it with a sparse direct solver.
 """
 
 from __future__ import annotations
@@ -178,254 +178,6 @@ def pore_particle_directions(
     return d / length[:, None]
 
 
-# -- chains ---------------------------------------------------------------------------------
-
-
-def find_chains(
-    spring_particles: np.ndarray,
-    axis: np.ndarray,
-    fixed: np.ndarray,
-    tolerance: float = 1e-9,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
-    """Split an axis-aligned spring network into chains between fixed particles.
-
-    Returns None unless every spring lies along x or y, every free particle has at most two
-    springs along each axis, and every line of springs starts and ends at a fixed particle (the
-    structure that makes each line an independent tridiagonal system).
-
-    Returns
-    -------
-    particle_ptr : (C+1,) int64
-        Chain c has particles ``chain_particles[particle_ptr[c]:particle_ptr[c+1]]``, in order
-        along the line, the first and last fixed.
-    chain_particles : (P,) int64
-    chain_springs : (P - C,) int64
-        Chain c has springs ``chain_springs[particle_ptr[c]-c : particle_ptr[c+1]-c-1]``;
-        spring i joins particles i and i+1 of the chain.
-    chain_axis : (C,) int8
-        0 for a chain along x, 1 along y.
-    """
-    spring_particles = np.asarray(spring_particles, dtype=np.int64)
-    along_x = np.abs(axis[:, 1]) <= tolerance * np.abs(axis[:, 0])
-    along_y = np.abs(axis[:, 0]) <= tolerance * np.abs(axis[:, 1])
-    if not np.all(along_x | along_y):
-        return None
-    n_particles = len(fixed)
-    out = _chains(spring_particles, along_y.astype(np.int8), np.asarray(fixed, bool), n_particles)
-    if out[0][0] < 0:
-        return None
-    return out
-
-
-@njit
-def _chains(
-    spring_particles: np.ndarray, spring_axis: np.ndarray, fixed: np.ndarray, n_particles: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`find_chains` on validated arrays; ``particle_ptr[0] = -1`` when not chains."""
-    m = spring_particles.shape[0]
-    # per particle and axis: up to two springs (slots), -1 empty
-    slots = np.full((n_particles, 2, 2), -1, dtype=np.int64)
-    bad = np.full(1, -1, dtype=np.int64)
-    for s in range(m):
-        ax = spring_axis[s]
-        for end in range(2):
-            q = spring_particles[s, end]
-            if slots[q, ax, 0] < 0:
-                slots[q, ax, 0] = s
-            elif slots[q, ax, 1] < 0:
-                slots[q, ax, 1] = s
-            elif not fixed[q]:
-                return bad, bad, bad, spring_axis[:0]
-    used = np.zeros(m, dtype=np.bool_)
-    particle_ptr = np.zeros(m + 1, dtype=np.int64)
-    chain_particles = np.empty(2 * m, dtype=np.int64)
-    chain_springs = np.empty(m, dtype=np.int64)
-    chain_axis = np.empty(m, dtype=np.int8)
-    n_chains = 0
-    n_p = 0
-    n_s = 0
-    for start in range(m):
-        if used[start]:
-            continue
-        # walk back from spring `start` to a fixed end, then forward to the other one
-        s = start
-        q = spring_particles[s, 0]
-        ax = spring_axis[s]
-        steps = 0
-        while not fixed[q]:
-            nxt = slots[q, ax, 0] if slots[q, ax, 0] != s else slots[q, ax, 1]
-            if nxt < 0 or steps > m:
-                return bad, bad, bad, spring_axis[:0]  # a free end, or a ring of free particles
-            s = nxt
-            q = spring_particles[s, 0] if spring_particles[s, 1] == q else spring_particles[s, 1]
-            steps += 1
-        # q is fixed and s its spring on this line: walk forward to the next fixed particle
-        chain_particles[n_p] = q
-        n_p += 1
-        while True:
-            used[s] = True
-            chain_springs[n_s] = s
-            n_s += 1
-            q = spring_particles[s, 0] if spring_particles[s, 1] == q else spring_particles[s, 1]
-            chain_particles[n_p] = q
-            n_p += 1
-            if fixed[q]:
-                break
-            nxt = slots[q, ax, 0] if slots[q, ax, 0] != s else slots[q, ax, 1]
-            if nxt < 0:
-                return bad, bad, bad, spring_axis[:0]
-            s = nxt
-        chain_axis[n_chains] = ax
-        n_chains += 1
-        particle_ptr[n_chains] = n_p
-    return (
-        particle_ptr[: n_chains + 1].copy(),
-        chain_particles[:n_p].copy(),
-        chain_springs[:n_s].copy(),
-        chain_axis[:n_chains].copy(),
-    )
-
-
-@njit
-def solve_chains(
-    particle_ptr: np.ndarray,
-    chain_particles: np.ndarray,
-    chain_springs: np.ndarray,
-    chain_axis: np.ndarray,
-    particle_coords: np.ndarray,
-    load: np.ndarray,
-    h: np.ndarray,
-    force: np.ndarray,
-    mode: np.ndarray,
-    modulus: float,
-    cohesion_stiffness: float,
-    contact_stiffness: float,
-    recontact: bool,
-    max_iterations: int,
-    displacement: np.ndarray,
-    dh: np.ndarray,
-    force_new: np.ndarray,
-) -> tuple[int, int]:
-    """One mechanical update on chains (see the module docstring), contacts iterated per chain.
-
-    Parameters
-    ----------
-    particle_ptr, chain_particles, chain_springs, chain_axis
-        From :func:`find_chains`.
-    particle_coords : (n_particles, 2) float
-        Used only to orient each spring along its chain.
-    load : (n_particles, 2) float
-        Fluid forces on the particles (:func:`pressure_loads`), gamma a.
-    h, force : (M,) float
-        Compression (a) and force (gamma a) of each spring at the start of the update.
-    mode : (M,) int8, in/out
-        ``IN_CONTACT`` or ``OPEN`` at the start; the final modes on return (``RECONTACT``
-        springs are returned as ``IN_CONTACT``).
-    modulus, cohesion_stiffness, contact_stiffness : float
-        ``E*`` (gamma/a), ``k_c`` and ``K_0`` (gamma).
-    recontact : bool
-        Whether an open spring may close again.
-    max_iterations : int
-        Most contact iterations per chain.
-    displacement : (n_particles, 2) float, out
-        Displacement increments (a); component along each chain's axis written.
-    dh, force_new : (M,) float, out
-        Compression change and new force of every spring of a chain.
-
-    Returns
-    -------
-    iterations : int
-        Largest number of solves any chain needed.
-    unsettled : int
-        Number of chains whose contacts still changed after ``max_iterations`` solves.
-    """
-    n_chains = chain_axis.shape[0]
-    longest = 0
-    for c in range(n_chains):
-        longest = max(longest, particle_ptr[c + 1] - particle_ptr[c])
-    k = np.empty(longest)
-    b = np.empty(longest)
-    local = np.empty(longest, dtype=np.int8)
-    rhs = np.empty(longest)
-    cprime = np.empty(longest)
-    v = np.zeros(longest)
-    worst = 0
-    unsettled = 0
-    for c in range(n_chains):
-        p0 = particle_ptr[c]
-        n_part = particle_ptr[c + 1] - p0
-        n_spr = n_part - 1
-        n_int = n_part - 2
-        s0 = p0 - c
-        ax = chain_axis[c]
-        # v: displacement along the chain's direction d, from its first particle to its last.
-        # Spring i joins chain particles i and i+1 and compresses by dh_i = v_i - v_{i+1}
-        # whichever way it is oriented; its force pushes particle i+1 along +d.
-        q_first = chain_particles[p0]
-        q_second = chain_particles[p0 + 1]
-        d_sign = 1.0 if particle_coords[q_second, ax] > particle_coords[q_first, ax] else -1.0
-        for i in range(n_spr):
-            local[i] = mode[chain_springs[s0 + i]]
-        iterations = 0
-        while True:
-            iterations += 1
-            for i in range(n_spr):
-                s = chain_springs[s0 + i]
-                if local[i] == IN_CONTACT:
-                    k[i] = 2.0 * modulus * math.sqrt(REDUCED_RADIUS * max(h[s], 0.0))
-                    b[i] = force[s]
-                elif local[i] == OPEN:
-                    k[i] = cohesion_stiffness
-                    b[i] = cohesion_stiffness * h[s]
-                else:
-                    k[i] = contact_stiffness
-                    b[i] = contact_stiffness * h[s]
-            # Balance at interior particle j+1 (unknown j):
-            # (k_j + k_{j+1}) v_j - k_j v_{j-1} - k_{j+1} v_{j+1} = f_j + b_j - b_{j+1}
-            for j in range(n_int):
-                q = chain_particles[p0 + j + 1]
-                rhs[j] = load[q, ax] * d_sign + b[j] - b[j + 1]
-            if n_int > 0:  # Thomas algorithm (symmetric positive definite: k > 0)
-                diag = k[0] + k[1]
-                cprime[0] = -k[1] / diag
-                rhs[0] = rhs[0] / diag
-                for j in range(1, n_int):
-                    diag = k[j] + k[j + 1] + k[j] * cprime[j - 1]
-                    cprime[j] = -k[j + 1] / diag
-                    rhs[j] = (rhs[j] + k[j] * rhs[j - 1]) / diag
-                v[n_int - 1] = rhs[n_int - 1]
-                for j in range(n_int - 2, -1, -1):
-                    v[j] = rhs[j] - cprime[j] * v[j + 1]
-            changed = False
-            for i in range(n_spr):
-                s = chain_springs[s0 + i]
-                left = 0.0 if i == 0 else v[i - 1]
-                right = 0.0 if i == n_spr - 1 else v[i]
-                h_new = h[s] + left - right
-                if local[i] != OPEN and h_new <= 0.0:
-                    local[i] = OPEN
-                    changed = True
-                elif local[i] == OPEN and recontact and h_new > 0.0:
-                    local[i] = RECONTACT
-                    changed = True
-            if not changed:
-                break
-            if iterations >= max_iterations:
-                unsettled += 1
-                break
-        worst = max(worst, iterations)
-        for i in range(n_spr):
-            s = chain_springs[s0 + i]
-            left = 0.0 if i == 0 else v[i - 1]
-            right = 0.0 if i == n_spr - 1 else v[i]
-            dh[s] = left - right
-            force_new[s] = b[i] + k[i] * dh[s]
-            mode[s] = OPEN if local[i] == OPEN else IN_CONTACT
-        for j in range(n_int):
-            displacement[chain_particles[p0 + j + 1], ax] = v[j] * d_sign
-    return worst, unsettled
-
-
 # -- any lattice: sparse direct solve -------------------------------------------------------
 
 
@@ -521,6 +273,7 @@ def solve_sparse(
     return du, dh, b + k * dh, iterations, unsettled
 
 
+@njit
 def balance_residual(
     load: np.ndarray,
     force: np.ndarray,
@@ -531,5 +284,111 @@ def balance_residual(
     """Largest net force on a free particle (gamma a): fluid ``load`` plus contact forces."""
     total = load.copy()
     add_spring_loads(force, spring_particles, axis, total)
-    free = ~fixed
-    return float(np.max(np.abs(total[free]))) if free.any() else 0.0
+    largest = 0.0
+    for q in range(fixed.shape[0]):
+        if not fixed[q]:
+            largest = max(largest, abs(total[q, 0]), abs(total[q, 1]))
+    return largest
+
+
+@njit(helper=True)
+def apply_spring(
+    s: int,
+    dh: float,
+    force_new: float,
+    h: np.ndarray,
+    force: np.ndarray,
+    geometric: np.ndarray,
+    apertures: np.ndarray,
+    floor: float,
+    cap: float,
+    at_floor: np.ndarray,
+    at_cap: np.ndarray,
+) -> float:
+    """Apply spring ``s``'s solved change: its throat's geometric aperture changes by
+    :func:`aperture_change` (with ``h`` before the update), the aperture the fluid sees becomes
+    it bounded to ``[floor, cap]`` (``at_floor`` / ``at_cap`` mark the bounds reached), then
+    ``h += dh`` and ``force = force_new``. Returns ``|change|`` of the seen aperture."""
+    one_minus = 1.0 - 0.5 * h[s]
+    geometric[s] += -dh * one_minus / (2.0 * math.sqrt(1.0 + one_minus * one_minus))
+    r = geometric[s]
+    if r < floor:
+        r = floor
+        at_floor[s] = True
+    elif r > cap:
+        r = cap
+        at_cap[s] = True
+    change = abs(r - apertures[s])
+    apertures[s] = r
+    h[s] += dh
+    force[s] = force_new
+    return change
+
+
+@njit
+def apply_update(
+    dh: np.ndarray,
+    force_new: np.ndarray,
+    du: np.ndarray,
+    h: np.ndarray,
+    force: np.ndarray,
+    displacement: np.ndarray,
+    geometric: np.ndarray,
+    apertures: np.ndarray,
+    floor: float,
+    cap: float,
+    at_floor: np.ndarray,
+    at_cap: np.ndarray,
+) -> tuple[float, bool]:
+    """Apply a solved update of every spring (:func:`apply_spring`) and particle
+    (``displacement += du``), in place.
+
+    Returns
+    -------
+    largest_change : float
+        Largest ``|change|`` of ``apertures`` (a).
+    finite : bool
+        False if any displacement increment or force is not finite (nothing is applied then).
+    """
+    for s in range(dh.shape[0]):
+        if not (math.isfinite(dh[s]) and math.isfinite(force_new[s])):
+            return 0.0, False
+    for q in range(du.shape[0]):
+        if not (math.isfinite(du[q, 0]) and math.isfinite(du[q, 1])):
+            return 0.0, False
+    largest = 0.0
+    for s in range(dh.shape[0]):
+        change = apply_spring(s, dh[s], force_new[s], h, force, geometric, apertures, floor,
+                              cap, at_floor, at_cap)  # fmt: skip
+        largest = max(largest, change)
+    for q in range(du.shape[0]):
+        displacement[q, 0] += du[q, 0]
+        displacement[q, 1] += du[q, 1]
+    return largest, True
+
+
+@njit
+def largest_pressure_change(
+    pressure: np.ndarray, drained: np.ndarray, invading_pressure: float, last: np.ndarray
+) -> float:
+    """``max |p - last|`` over the pores, ``p`` being ``invading_pressure`` in drained pores and
+    ``pressure`` elsewhere (what :func:`pressure_loads` would be given), without a temporary."""
+    largest = 0.0
+    for i in range(last.shape[0]):
+        p = invading_pressure if drained[i] else pressure[i]
+        largest = max(largest, abs(p - last[i]))
+    return largest
+
+
+@njit
+def fill_pore_pressures(
+    out: np.ndarray, pressure: np.ndarray, drained: np.ndarray, invading_pressure: float
+) -> None:
+    """``out[i] = invading_pressure`` in drained pores, ``pressure[i]`` elsewhere (``pressure``
+    may be empty: the defender is then at 0)."""
+    have = pressure.shape[0] > 0
+    for i in range(out.shape[0]):
+        if drained[i]:
+            out[i] = invading_pressure
+        else:
+            out[i] = pressure[i] if have else 0.0

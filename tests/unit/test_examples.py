@@ -24,3 +24,20 @@ def test_example_scene_validates(path):
 
         registry = build_registry(extra_plugins={"correlated": porenet_correlated.plugin})
     load_scene(path, registry=registry)
+
+
+def test_fig5_script_runs_on_a_small_lattice(tmp_path):
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fig5.py"
+    table = tmp_path / "fig5.md"
+    out = subprocess.run(
+        [sys.executable, str(script), "--n", "20", "--nf", "10", "0.01", "--table", str(table)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stderr
+    assert "N_f = 10" in out.stdout and "rigid" in out.stdout
+    assert table.read_text().count("\n| ") == 4  # the header row and three runs

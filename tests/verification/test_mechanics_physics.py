@@ -139,7 +139,8 @@ def test_rigid_plan_builds_no_mechanics_and_hertz_builds_both():
 
 def test_run_file_holds_the_solid_records(tmp_path):
     path = tmp_path / "run.h5"
-    porenet.run(scene(n=16, fluid=VISCOUS, fracturing_number=3.0), output=path)
+    fluid = {**VISCOUS, "snapshot_saturations": [0.01]}
+    porenet.run(scene(n=16, fluid=fluid, fracturing_number=3.0), output=path)
     data = read_run(path)
     m = 2 * 16 * 15
     assert data.final_apertures.shape == (m,)
@@ -152,3 +153,7 @@ def test_run_file_holds_the_solid_records(tmp_path):
     series = data.mechanics_series
     assert set(series) >= {"time", "removed_springs", "max_aperture_change", "balance_residual"}
     assert np.all(np.diff(series["time"]) >= 0) and series["time"][-1] > 0
+    (snap,) = data.snapshots
+    assert set(snap.mechanics) == {"apertures", *final}
+    assert snap.mechanics["apertures"].shape == (m,)
+    assert snap.mechanics["removed_springs"].sum() <= final["removed_springs"].sum()

@@ -97,7 +97,7 @@ class InvasionPercolation(FluidModel):
         stop = self.context.stop
         self._max_steps = None if stop.max_drained is None else int(stop.max_drained)
 
-    def apertures_changed(self, state: State) -> None:
+    def apertures_changed(self, state: State, throats: np.ndarray | None = None) -> None:
         """Re-read the entry pressures of the frontier throats (the only ones the next step
         compares) from the deformed apertures."""
         from porenet.kernels.ip_online import online_frontier

@@ -442,30 +442,32 @@ class ViscousDrainage(FluidModel):
         """Most time steps per kernel call: the coupler's limit (:attr:`step_limit`) if any."""
         return _STEP_CHUNK if self.step_limit is None else min(_STEP_CHUNK, self.step_limit)
 
-    def apertures_changed(self, state: State) -> None:
-        """Recompute the throat areas, conductances and entry pressures from the deformed
-        apertures (in place: the kernels keep reading the same arrays), and the stable time
-        step, which shrinks as throats open (``g ~ r**4``). The time-step safety factor and
-        the accuracy limits keep their values; pore volumes do not change."""
+    def apertures_changed(self, state: State, throats: np.ndarray | None = None) -> None:
+        """Recompute the areas, conductances and entry pressures of the deformed throats (in
+        place: the kernels keep reading the same arrays) and shrink the stable time step if
+        they made it smaller (``g ~ r**4``). Only throats between undrained pores limit the
+        explicit step (the menisci are implicit), so throats that opened inside the invaded
+        region cost nothing. The step never grows back, and never exceeds the one taken at
+        setup, so an undeformed medium keeps its time step. The safety factor and the
+        accuracy limits keep their values; pore volumes do not change."""
+        from porenet.kernels.diffusion import refresh_throats
+
         if self.integrator == "implicit":
             raise NotImplementedError(
                 "the implicit integrator does not follow changing apertures yet; use "
                 "fluid.integrator = 'explicit' with a deformable solid"
             )
+        if throats is None:
+            throats = np.arange(len(self._area), dtype=np.int64)
         c_area, c_perm = self.lattice.throat_factors
-        r = np.asarray(state.apertures, dtype=np.float64)
-        np.multiply(c_area, r**2, out=self._area)
-        np.multiply(self._area, c_perm * r**2, out=self._g_num)
-        np.divide(self._g_num, MENISCUS_LENGTH, out=self._g_eff)
-        touches_invader = state.drained[self._tp[:, 0]] | state.drained[self._tp[:, 1]]
-        self._g_eff[touches_invader] = 0.0
-        np.divide(2.0, r, out=self._pe)
-        # as at setup: every throat counts, so an undeformed medium keeps its time step
-        g_all = self._g_num / MENISCUS_LENGTH
-        degree_sum = np.bincount(self._tp[:, 0], g_all, minlength=len(self._vol))
-        degree_sum += np.bincount(self._tp[:, 1], g_all, minlength=len(self._vol))
-        self.dt_stable = float(np.min(self._vol / (degree_sum + self._g_out)))
-        self._dt = self.config.safety_factor * self.dt_stable
+        limit = refresh_throats(
+            np.ascontiguousarray(throats, dtype=np.int64), state.apertures, c_area, c_perm,
+            MENISCUS_LENGTH, self._tp, state.drained, self._area, self._g_num, self._g_eff,
+            self._pe, self._csr[0], self._csr[2], self._vol, self._g_out,
+        )  # fmt: skip
+        if limit < self.dt_stable:
+            self.dt_stable = limit
+            self._dt = self.config.safety_factor * self.dt_stable
 
     def _sync(self, state: State) -> None:
         """Copy the kernel's counters into the State and extend the record."""

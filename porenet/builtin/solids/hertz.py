@@ -95,17 +95,20 @@ class HertzConfig(ModelConfig):
         "adaptive",
         description="When the solid is updated: 'every-step' (after every fluid step; for "
         "invasion percolation every drained pore, the quasi-static rule), 'interval' (every "
-        "coupling_interval fluid steps) or 'adaptive' (after a fluid step that changed some "
-        "pore pressure by more than coupling_tolerance since the last update).",
+        "coupling_interval fluid steps) or 'adaptive' (after a fluid step whose pressure "
+        "changes since the last update could deform a spring by more than "
+        "coupling_tolerance).",
     )
     coupling_interval: int = Field(
         1, ge=1, description="Fluid steps between updates for coupling = 'interval' (-)."
     )
     coupling_tolerance: float = Field(
-        0.05,
+        3e-3,
         gt=0,
-        description="Largest pore-pressure change since the last update that 'adaptive' "
-        "coupling lets pass, in units of the capillary pressure gamma / a (-).",
+        description="'adaptive' coupling updates the solid after a fluid step when the "
+        "largest pore-pressure change since the last update, dp, could change a spring's "
+        "compression by more than this: dp A_p / K_0 > tolerance, in units of the pore size "
+        "a (-); K_0 is the prestress stiffness.",
     )
 
     builds_nothing: ClassVar[bool] = False
@@ -182,16 +185,33 @@ class HertzSolid(SolidModel):
         )
         self._chains = None
         if config.solver in ("auto", "chains"):
-            self._chains = mk.find_chains(springs, self._axis, fixed)
+            from porenet.kernels import chains as ck
+
+            self._chains = ck.find_chains(springs, self._axis, fixed)
             if self._chains is None and config.solver == "chains":
                 raise ConfigError(
                     "solid.solver = 'chains' needs every spring along x or y and every line of "
                     "springs to end at fixed particles; this lattice does not (use "
                     "'sparse-direct' or 'auto')"
                 )
+        if self._chains is not None:
+            order = np.argsort(self._pair_pore, kind="stable")
+            self._pair_pore = self._pair_pore[order]
+            self._pair_particle = self._pair_particle[order]
+            self._pair_dir = np.ascontiguousarray(self._pair_dir[order])
+            self._pair_ptr = np.searchsorted(self._pair_pore, np.arange(lattice.n_pores + 1))
+            self._particle_chain = ck.particle_chains(
+                self._chains[0], self._chains[1], self._chains[3], len(xy)
+            )
         self.h0 = 2.0 * config.prestrain
         self.k0 = float(mk.hertz_stiffness(self.h0, self.modulus))
         self.disorder = getattr(lattice.config, "disorder", None)
+
+    @property
+    def compliance(self) -> float:
+        """``A_p / K_0`` (a per gamma/a): the change of one spring's compression under a
+        pressure change of 1 gamma/a in one of its pores, at the prestress stiffness."""
+        return self.config.pressure_area_factor / self.k0
 
     @property
     def solver(self) -> str:
@@ -199,17 +219,19 @@ class HertzSolid(SolidModel):
         return "chains" if self._chains is not None else "sparse-direct"
 
     def setup(self, state: State) -> None:
-        from porenet.kernels import mechanics as mk
+        from porenet.kernels import chains as ck
+        from porenet.kernels.mechanics import hertz_force
 
         m = self._springs.shape[0]
         state.spring_compression = np.full(m, self.h0)
-        state.spring_force = mk.hertz_force(state.spring_compression, self.modulus)
+        state.spring_force = hertz_force(state.spring_compression, self.modulus)
         state.displacement = np.zeros_like(self._xy)
         self._mode = np.zeros(m, dtype=np.int8)
-        self._load = np.zeros_like(self._xy)
-        self._du = np.zeros_like(self._xy)
-        self._dh = np.zeros(m)
-        self._force_new = np.zeros(m)
+        self._load = np.zeros_like(self._xy)  # fluid forces of the pressures `_seen`
+        self._seen = np.zeros(state.n_pores)  # the prestress balances zero pore pressure
+        self._changed = np.zeros(m, dtype=np.int64)
+        if self._chains is not None:
+            self._dirty = np.zeros(len(self._chains[3]), dtype=bool)
         mean = float(self.lattice.mean_aperture)
         self._floor = self.config.aperture_floor * mean
         self._cap = self.config.aperture_cap * mean
@@ -217,7 +239,10 @@ class HertzSolid(SolidModel):
         self._at_cap = np.zeros(m, dtype=bool)
         #: Apertures the particle positions give, before the floor and the cap (a).
         self.geometric_apertures = np.array(state.apertures, dtype=np.float64, copy=True)
+        self._stats = np.zeros(len(ck.STATS))
         self.updates = 0
+        self.chains_solved = 0
+        self.n_removed = 0
         self.largest_residual = 0.0
         self.contact_iterations = 0
         self.unsettled = 0
@@ -229,9 +254,77 @@ class HertzSolid(SolidModel):
             "balance_residual": [],
         }
 
-    def update(self, state: State, pore_pressure: np.ndarray) -> np.ndarray:
-        """Balance forces under ``pore_pressure`` (gamma/a); apply and return the aperture
-        changes (a), each throat bounded below by the aperture floor."""
+    def update(
+        self, state: State, pore_pressure: np.ndarray, tolerance: float = 0.0
+    ) -> np.ndarray | None:
+        """Balance forces under ``pore_pressure`` (gamma/a) and write the new compressions,
+        forces, displacements and apertures (each bounded by the aperture floor and cap).
+
+        A pore's pressure reaches its particles only once it moved by more than
+        ``tolerance K_0 / A_p`` since it last did (a change that would deform a spring by at
+        most ``tolerance``, in units of a; 0 is exact), and only the lines of springs through
+        those particles are solved (with chains; the sparse solver always solves all).
+
+        Returns
+        -------
+        ndarray of int64 or None
+            The throats whose aperture changed (None: possibly all).
+        """
+        if self._chains is not None:
+            changed = self._update_chains(state, pore_pressure, tolerance)
+            if changed is None:  # no pore's pressure moved beyond the tolerance
+                return np.zeros(0, dtype=np.int64)
+        else:
+            changed = self._update_sparse(state, pore_pressure)
+        self.updates += 1
+        series = self._series
+        series["time"].append(state.time)
+        series["drained"].append(float(state.n_drained))
+        series["removed_springs"].append(float(self.n_removed))
+        series["max_aperture_change"].append(float(self._stats[6]))
+        series["balance_residual"].append(float(self._stats[2]))
+        self.largest_residual = max(self.largest_residual, float(self._stats[2]))
+        self.contact_iterations = max(self.contact_iterations, int(self._stats[0]))
+        self.unsettled += int(self._stats[1])
+        return changed
+
+    def _numerical_error(self, state: State, what: str) -> NumericalError:
+        return NumericalError(
+            f"hertz solid: non-finite {what} in mechanical update {self.updates + 1} after "
+            f"{state.n_drained} drained pores (t = {state.time:g} scaled)"
+        )
+
+    def _update_chains(
+        self, state: State, pore_pressure: np.ndarray, tolerance: float
+    ) -> np.ndarray | None:
+        """Refresh the loads and solve the lines they changed; None if no pore was refreshed."""
+        from porenet.kernels import chains as ck
+
+        cfg = self.config
+        assert self._chains is not None and state.displacement is not None
+        threshold = tolerance * self.k0 / cfg.pressure_area_factor if tolerance > 0 else 0.0
+        refreshed = ck.refresh_loads(
+            pore_pressure, self._seen, threshold, self._pair_ptr, self._pair_particle,
+            self._pair_dir, cfg.pressure_area_factor, self._load, self._particle_chain,
+            self._dirty,
+        )  # fmt: skip
+        if refreshed == 0:
+            return None
+        stats = self._stats
+        ck.solve_chains(
+            *self._chains, self._xy, self._load, self._dirty, state.spring_compression,
+            state.spring_force, self._mode, self.modulus, cfg.cohesion * self.k0, self.k0,
+            cfg.recontact == "restore", cfg.max_contact_iterations, state.displacement,
+            self.geometric_apertures, state.apertures, self._floor, self._cap,
+            self._at_floor, self._at_cap, self._changed, stats,
+        )  # fmt: skip
+        if stats[ck.STATS["finite"]] == 0:
+            raise self._numerical_error(state, "displacement")
+        self.chains_solved += int(stats[ck.STATS["solved"]])
+        self.n_removed += int(stats[ck.STATS["opened"]])
+        return self._changed[: int(stats[ck.STATS["changed"]])]
+
+    def _update_sparse(self, state: State, pore_pressure: np.ndarray) -> None:
         from porenet.kernels import mechanics as mk
 
         cfg = self.config
@@ -241,55 +334,20 @@ class HertzSolid(SolidModel):
             pore_pressure, self._pair_pore, self._pair_particle, self._pair_dir,
             cfg.pressure_area_factor, self._load,
         )  # fmt: skip
-        k_c = cfg.cohesion * self.k0
-        recontact = cfg.recontact == "restore"
-        if self._chains is not None:
-            self._du[:] = 0.0
-            iterations, unsettled = mk.solve_chains(
-                *self._chains, self._xy, self._load, h, force, self._mode, self.modulus, k_c,
-                self.k0, recontact, cfg.max_contact_iterations, self._du, self._dh,
-                self._force_new,
-            )  # fmt: skip
-            du, dh, force_new = self._du, self._dh, self._force_new
-        else:
-            du, dh, force_new, iterations, unsettled = mk.solve_sparse(
-                self._springs, self._axis, self._fixed, self._load, h, force, self._mode,
-                self.modulus, k_c, self.k0, recontact, cfg.max_contact_iterations,
-            )  # fmt: skip
-        if not (np.all(np.isfinite(du)) and np.all(np.isfinite(force_new))):
-            bad = (
-                int(np.flatnonzero(~np.isfinite(du).all(axis=1))[0])
-                if not np.all(np.isfinite(du))
-                else -1
-            )
-            raise NumericalError(
-                f"hertz solid: non-finite displacement (particle {bad}) in mechanical update "
-                f"{self.updates + 1} after {state.n_drained} drained pores (t = {state.time:g} "
-                f"scaled)"
-            )
-        self.geometric_apertures += mk.aperture_change(dh, h)
-        target = self.geometric_apertures
-        low, high = target < self._floor, target > self._cap
-        self._at_floor |= low
-        self._at_cap |= high
-        r = state.apertures
-        dr = np.clip(target, self._floor, self._cap) - r
-        r += dr
-        h += dh
-        force[:] = force_new
-        state.displacement += du
+        du, dh, force_new, iterations, unsettled = mk.solve_sparse(
+            self._springs, self._axis, self._fixed, self._load, h, force, self._mode,
+            self.modulus, cfg.cohesion * self.k0, self.k0, cfg.recontact == "restore",
+            cfg.max_contact_iterations,
+        )  # fmt: skip
+        largest, finite = mk.apply_update(
+            dh, force_new, du, h, force, state.displacement, self.geometric_apertures,
+            state.apertures, self._floor, self._cap, self._at_floor, self._at_cap,
+        )  # fmt: skip
+        if not finite:
+            raise self._numerical_error(state, "displacement or force")
+        self.n_removed = int(np.count_nonzero(self._mode == mk.OPEN))
         residual = mk.balance_residual(self._load, force, self._springs, self._axis, self._fixed)
-        self.updates += 1
-        self.largest_residual = max(self.largest_residual, residual)
-        self.contact_iterations = max(self.contact_iterations, int(iterations))
-        self.unsettled += int(unsettled)
-        series = self._series
-        series["time"].append(state.time)
-        series["drained"].append(float(state.n_drained))
-        series["removed_springs"].append(float(self.removed.sum()))
-        series["max_aperture_change"].append(float(np.max(np.abs(dr))) if dr.size else 0.0)
-        series["balance_residual"].append(residual)
-        return dr
+        self._stats[:] = (iterations, unsettled, residual, 0, 0, 0, largest, 1)
 
     @property
     def removed(self) -> np.ndarray:
@@ -304,10 +362,11 @@ class HertzSolid(SolidModel):
         out: dict[str, Any] = {
             "modulus": self.modulus * sc.pressure,
             "prestrain": self.config.prestrain,
-            "springs_removed": int(self.removed.sum()),
+            "springs_removed": self.n_removed,
             "mechanical_updates": self.updates,
             "mechanics_solver": self.solver,
             "largest_balance_residual": self.largest_residual * sc.pressure * sc.area,
+            "mechanics_lines_solved": self.chains_solved,
             "largest_contact_iterations": self.contact_iterations,
             "unsettled_updates": self.unsettled,
             "apertures_at_floor": int(self._at_floor.sum()),
@@ -319,14 +378,21 @@ class HertzSolid(SolidModel):
             )
         return out
 
+    def fields(self, state: State) -> dict[str, np.ndarray]:
+        """Copies of the solid fields now (scaled)."""
+        return {
+            "spring_compression": np.asarray(state.spring_compression).copy(),
+            "spring_force": np.asarray(state.spring_force).copy(),
+            "removed_springs": self.removed.copy(),
+            "displacement": np.asarray(state.displacement).copy(),
+        }
+
+    def snapshot(self, state: State) -> dict[str, np.ndarray]:
+        return {"apertures": state.apertures.copy(), **self.fields(state)}
+
     def outputs(self, state: State) -> dict[str, Any]:
         """Final solid fields and the per-update series, scaled (the Simulation converts)."""
         return {
-            "final": {
-                "spring_compression": np.asarray(state.spring_compression).copy(),
-                "spring_force": np.asarray(state.spring_force).copy(),
-                "removed_springs": self.removed.copy(),
-                "displacement": np.asarray(state.displacement).copy(),
-            },
+            "final": self.fields(state),
             "series": {k: np.asarray(v, dtype=np.float64) for k, v in self._series.items()},
         }

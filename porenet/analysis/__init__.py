@@ -1,0 +1,1 @@
+"""Measures of invasion patterns (MODEL.md section 7)."""
