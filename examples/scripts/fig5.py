@@ -2,8 +2,7 @@
 
     python examples/scripts/fig5.py                                   # n = 400 (minutes)
     python examples/scripts/fig5.py --n 100 --out /tmp/fig5.png       # a quick look
-    python examples/scripts/fig5.py --out docs/figures/fig5.png --table docs/fig5-table.md \\
-        --runs runs/fig5
+    python examples/scripts/fig5.py --out docs/figures/fig5.png --table docs/fig5-table.md
 
 Runs ``examples/scenes/fig5.toml`` (lambda = 0.1, Ca* = 10, viscous, Hertzian solid) at each
 fracturing number, with the capillary number set so that Ca* = Ca (L/a) / [lambda/(1-lambda^2)]
@@ -41,8 +40,11 @@ def longest_straight_run(grid: np.ndarray) -> int:
     return best
 
 
-def run(n: int, nf: float | None, output: Path | None) -> tuple[float, object]:
-    """The scene at n pores per side, Ca* = 10, at fracturing number ``nf`` (None: rigid)."""
+def run(
+    n: int, nf: float | None, output: Path | None, cap: float | None = None
+) -> tuple[float, object]:
+    """The scene at n pores per side, Ca* = 10, at fracturing number ``nf`` (None: rigid),
+    with the solid's ``aperture_cap`` if given."""
     with SCENE.open("rb") as f:
         scene = tomllib.load(f)
     scene["lattice"]["n"] = n
@@ -51,6 +53,8 @@ def run(n: int, nf: float | None, output: Path | None) -> tuple[float, object]:
         scene["solid"] = {"kind": "rigid"}
     else:
         scene["solid"]["fracturing_number"] = nf
+        if cap is not None:
+            scene["solid"]["aperture_cap"] = cap
     sim = Simulation.from_scene(scene, output=output)
     t0 = time.perf_counter()
     result = sim.run()
@@ -60,7 +64,9 @@ def run(n: int, nf: float | None, output: Path | None) -> tuple[float, object]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=400)
-    parser.add_argument("--nf", type=float, nargs="+", default=[10.0, 1.0, 0.1, 0.01])
+    parser.add_argument("--nf", type=float, nargs="+", default=[10.0, 3.0, 1.0, 0.3, 0.1, 0.01])
+    parser.add_argument("--aperture-cap", type=float, help="solid.aperture_cap (default 2)")
+    parser.add_argument("--no-rigid", action="store_true", help="skip the rigid run")
     parser.add_argument("--runs", type=Path, help="directory for the run files")
     parser.add_argument("--out", type=Path, help="figure (PNG)")
     parser.add_argument("--table", type=Path, help="markdown table")
@@ -68,10 +74,10 @@ def main() -> None:
     if args.runs:
         args.runs.mkdir(parents=True, exist_ok=True)
     rows = []
-    for nf in [*args.nf, None]:
+    for nf in [*args.nf] + ([] if args.no_rigid else [None]):
         label = "rigid" if nf is None else f"N_f = {nf:g}"
         out = None if args.runs is None else args.runs / f"fig5-{label.replace(' ', '')}.h5"
-        wall, res = run(args.n, nf, out)
+        wall, res = run(args.n, nf, out, args.aperture_cap)
         data = res.data
         xy = data.pore_coords / data.pore_size
         centre = xy[data.order[0]]
@@ -118,11 +124,15 @@ def main() -> None:
         from porenet.viz.pattern import plot_pattern, save_figure
 
         k = len(rows)
-        fig = Figure(figsize=(3.3 * (k + 1), 3.4), dpi=130, layout="constrained")
-        axes = fig.subplots(1, k + 1)
+        cols = 4
+        n_rows = -(-(k + 1) // cols)
+        fig = Figure(figsize=(3.6 * cols, 3.2 * n_rows), dpi=130, layout="constrained")
+        axes = fig.subplots(n_rows, cols).ravel()
         for ax, r in zip(axes, rows, strict=False):
             plot_pattern(r["data"], ax=ax, title=f"{r['label']}, D_f = {r['d_f']:.2f}")
-        ax = axes[-1]
+        for ax in axes[k + 1 :]:
+            ax.set_axis_off()
+        ax = axes[k]
         pts = [(r["nf"], r["d_f"]) for r in rows if r["nf"] is not None]
         ax.semilogx([p[0] for p in pts], [p[1] for p in pts], "o-", label="deformable")
         rigid = [r["d_f"] for r in rows if r["nf"] is None]

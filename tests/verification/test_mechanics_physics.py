@@ -157,3 +157,14 @@ def test_run_file_holds_the_solid_records(tmp_path):
     assert set(snap.mechanics) == {"apertures", *final}
     assert snap.mechanics["apertures"].shape == (m,)
     assert snap.mechanics["removed_springs"].sum() <= final["removed_springs"].sum()
+
+
+def test_adaptive_coupling_converges_to_every_step():
+    base = {"fracturing_number": 1.0}
+    fluid = {**VISCOUS, "capillary_number": 10 * LAM / (1 - LAM**2) / 24}  # Ca* = 10
+    ref = porenet.run(scene(n=24, fluid=fluid, coupling="every-step", **base))
+    tight = porenet.run(scene(n=24, fluid=fluid, coupling_tolerance=1e-12, **base))
+    np.testing.assert_array_equal(tight.data.order, ref.data.order)
+    np.testing.assert_allclose(tight.data.invasion_time, ref.data.invasion_time, rtol=1e-9)
+    np.testing.assert_allclose(tight.data.final_apertures, ref.data.final_apertures, rtol=1e-9)
+    assert ref.summary["springs_removed"] > 0
