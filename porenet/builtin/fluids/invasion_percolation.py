@@ -94,8 +94,6 @@ class InvasionPercolation(FluidModel):
         state.n_drained = k
         state.breakthrough = bool(self._outlet[pores].any())
         self._exhausted = False
-        stop = self.context.stop
-        self._max_steps = None if stop.max_drained is None else int(stop.max_drained)
 
     def apertures_changed(self, state: State, throats: np.ndarray | None = None) -> None:
         """Re-read the entry pressures of the frontier throats (the only ones the next step
