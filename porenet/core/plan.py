@@ -109,7 +109,12 @@ def make_plan(
     else:
         models.append(ModelPlan("solid", solid.kind, solid.package, True, "mechanics"))
         coupler_kind = getattr(scene.solid, "coupler", None) or "-"
-        models.append(ModelPlan("coupler", coupler_kind, "-", True, "fluid-solid exchange"))
+        package = "-"
+        if ("coupler", coupler_kind) in registry:
+            package = registry.get("coupler", coupler_kind).package
+        schedule = getattr(scene.solid, "coupling", None)
+        reason = "fluid-solid exchange" + (f" ({schedule})" if schedule else "")
+        models.append(ModelPlan("coupler", coupler_kind, package, True, reason))
     for obs in scene.observers:
         entry = registry.get("observer", obs.kind)
         models.append(ModelPlan("observer", entry.kind, entry.package, True, "configured"))
@@ -152,4 +157,13 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
             # Ca* ~ 1 is the CF/VF crossover (Fig. 2); L_x is the crossover length in pores
             numbers["Ca* = Ca (L/a) / [lambda/(1-lambda^2)]"] = float(ca) * float(n) / disorder
             numbers["crossover length L_x / a"] = disorder / float(ca)
+    solid = scene.solid
+    nf = getattr(solid, "fracturing_number", None)
+    modulus = getattr(solid, "modulus", None)
+    prestrain = getattr(solid, "prestrain", None)
+    if nf is None and modulus is not None and None not in (gamma, pore_size, lam, prestrain):
+        # Eq. 2: N_f = gamma / (lambda a E* eps_0^(1/2)); fracturing dominates for N_f >~ 1
+        nf = float(gamma) / (float(lam) * float(pore_size) * float(modulus) * prestrain**0.5)
+    if nf is not None:
+        numbers["fracturing number N_f"] = float(nf)
     return numbers

@@ -135,6 +135,11 @@ def test_rigid_plan_builds_no_mechanics_and_hertz_builds_both():
     hertz = make_plan(porenet.load_scene(scene(n=8, fracturing_number=1.0)), reg)
     assert hertz.builds("solid") and hertz.builds("coupler")
     assert hertz.effects["deformation"] and hertz.effects["contact_loss"]
+    assert hertz.numbers["fracturing number N_f"] == 1.0
+    by_modulus = make_plan(porenet.load_scene(scene(n=8, modulus=3e9)), reg)
+    expected = GAMMA / (LAM * A * 3e9 * math.sqrt(EPS0))
+    assert by_modulus.numbers["fracturing number N_f"] == pytest.approx(expected, rel=1e-12)
+    assert "fracturing number N_f" not in rigid.numbers
 
 
 def test_run_file_holds_the_solid_records(tmp_path):
