@@ -9,7 +9,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from porenet.config.base import ModelConfig
-from porenet.core.errors import ConfigError, NumericalError
+from porenet.core.errors import NumericalError
 from porenet.core.interfaces import FluidModel
 from porenet.core.state import State
 
@@ -225,13 +225,6 @@ class ViscousDrainage(FluidModel):
         at 7 244 (Ca = 1e-5). The bound grows like sqrt(N) because an implicit step factorises
         the pore matrix (~N^1.5 on a grid) where an explicit one sweeps it (~N)."""
         choice = self.config.integrator
-        if self.context.deformable:
-            if choice == "implicit":
-                raise ConfigError(
-                    "fluid.integrator = 'implicit' does not follow changing apertures yet; "
-                    "use 'explicit' (or 'auto') with a deformable solid"
-                )
-            return "explicit"
         if choice != "auto":
             return choice
         if self.config.control != "rate" or self._q <= 0:
@@ -452,11 +445,6 @@ class ViscousDrainage(FluidModel):
         accuracy limits keep their values; pore volumes do not change."""
         from porenet.kernels.diffusion import refresh_throats
 
-        if self.integrator == "implicit":
-            raise NotImplementedError(
-                "the implicit integrator does not follow changing apertures yet; use "
-                "fluid.integrator = 'explicit' with a deformable solid"
-            )
         if throats is None:
             throats = np.arange(len(self._area), dtype=np.int64)
         c_area, c_perm = self.lattice.throat_factors
