@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from porenet.analysis.numbers import capillary_number_at
 from porenet.simulation import Simulation
 from porenet.testing.runs import pattern_overlap
 
@@ -50,15 +51,11 @@ KNOBS = {
 }
 
 
-def capillary_number(n: int, ca_star: float) -> float:
-    return ca_star * LAMBDA / (1.0 - LAMBDA**2) / n
-
-
 def scene(n: int, ca_star: float, nf: float, seed: int = 1, **solid: object) -> dict:
     return {
         "seed": seed,
         "lattice": {"n": n, "disorder": LAMBDA, "pore_size": 1e-7},
-        "fluid": {"kind": "viscous", "capillary_number": capillary_number(n, ca_star)},
+        "fluid": {"kind": "viscous", "capillary_number": capillary_number_at(ca_star, n, LAMBDA)},
         "solid": {"kind": "hertz", "fracturing_number": nf, **solid},
     }
 
@@ -142,7 +139,8 @@ def main() -> None:
     if args.table:
         lines = [
             f"Scene: n = {args.n}, lambda = {LAMBDA}, Ca* = {args.ca_star:g} "
-            f"(Ca = {capillary_number(args.n, args.ca_star):.3g}), N_f = {args.nf:g}, seeds "
+            f"(Ca = {capillary_number_at(args.ca_star, args.n, LAMBDA):.3g}), N_f = {args.nf:g}, "
+            f"seeds "
             f"1-{args.seeds}, to breakthrough; errors and times are means over the seeds. "
             f"Reference: coupling = every-step, {wall_ref:.2f} s, {updates_ref} updates.",
             "",

@@ -20,24 +20,13 @@ import time
 import tomllib
 from pathlib import Path
 
-import numpy as np
-
+from porenet.analysis.features import longest_straight_run
 from porenet.analysis.fractal import mass_radius_dimension
+from porenet.analysis.numbers import capillary_number_at
 from porenet.simulation import Simulation
 
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "fig5.toml"
 LAMBDA = 0.1
-
-
-def longest_straight_run(grid: np.ndarray) -> int:
-    best = 0
-    for g in (grid, grid.T):
-        for row in g:
-            padded = np.concatenate([[0], row.astype(np.int8), [0]])
-            edges = np.flatnonzero(np.diff(padded))
-            if edges.size:
-                best = max(best, int(np.max(edges[1::2] - edges[::2])))
-    return best
 
 
 def run(
@@ -48,7 +37,7 @@ def run(
     with SCENE.open("rb") as f:
         scene = tomllib.load(f)
     scene["lattice"]["n"] = n
-    scene["fluid"]["capillary_number"] = 10.0 * LAMBDA / (1.0 - LAMBDA**2) / n
+    scene["fluid"]["capillary_number"] = capillary_number_at(10.0, n, LAMBDA)
     if nf is None:
         scene["solid"] = {"kind": "rigid"}
     else:
@@ -104,7 +93,7 @@ def main() -> None:
     if args.table:
         lines = [
             f"n = {args.n}, lambda = {LAMBDA}, Ca* = 10 (Ca = "
-            f"{10.0 * LAMBDA / (1.0 - LAMBDA**2) / args.n:.4g}), seed 1, to breakthrough "
+            f"{capillary_number_at(10.0, args.n, LAMBDA):.4g}), seed 1, to breakthrough "
             "(`python examples/scripts/fig5.py`).",
             "",
             "| medium | wall (s) | fluid steps | mechanical updates | drained pores | springs "

@@ -11,6 +11,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from porenet.analysis.numbers import (
+    disorder_factor,
+    fracturing_number,
+    modified_capillary_number,
+)
 from porenet.core.registry import Registry
 
 
@@ -145,7 +150,7 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     lam = getattr(lat, "disorder", None)
     if lam is not None:
         numbers["disorder"] = float(lam)
-        numbers["lambda/(1-lambda^2)"] = float(lam) / (1.0 - float(lam) ** 2)
+        numbers["lambda/(1-lambda^2)"] = disorder_factor(float(lam))
     gamma = getattr(scene.fluid, "interfacial_tension", None)
     if gamma is not None and pore_size is not None:
         numbers["capillary pressure gamma/a (Pa)"] = float(gamma) / float(pore_size)
@@ -153,17 +158,17 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     if ca is not None:
         numbers["Ca"] = float(ca)
         if lam is not None and n is not None and 0 < float(lam) < 1:
-            disorder = float(lam) / (1.0 - float(lam) ** 2)
             # Ca* ~ 1 is the CF/VF crossover (Fig. 2); L_x is the crossover length in pores
-            numbers["Ca* = Ca (L/a) / [lambda/(1-lambda^2)]"] = float(ca) * float(n) / disorder
-            numbers["crossover length L_x / a"] = disorder / float(ca)
+            numbers["Ca* = Ca (L/a) / [lambda/(1-lambda^2)]"] = modified_capillary_number(
+                float(ca), int(n), float(lam)
+            )
+            numbers["crossover length L_x / a"] = disorder_factor(float(lam)) / float(ca)
     solid = scene.solid
     nf = getattr(solid, "fracturing_number", None)
     modulus = getattr(solid, "modulus", None)
     prestrain = getattr(solid, "prestrain", None)
     if nf is None and modulus is not None and None not in (gamma, pore_size, lam, prestrain):
-        # Eq. 2: N_f = gamma / (lambda a E* eps_0^(1/2)); fracturing dominates for N_f >~ 1
-        nf = float(gamma) / (float(lam) * float(pore_size) * float(modulus) * prestrain**0.5)
+        nf = fracturing_number(gamma, lam, pore_size, modulus, prestrain)
     if nf is not None:
         numbers["fracturing number N_f"] = float(nf)
     return numbers

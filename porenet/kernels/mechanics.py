@@ -153,14 +153,22 @@ def add_spring_loads(
         out[m, 1] -= fy
 
 
+def _unit_vectors(d: np.ndarray) -> tuple[np.ndarray, int]:
+    """Rows of ``d`` divided by their lengths, and the first row of zero length (-1 if none)."""
+    length = np.hypot(d[:, 0], d[:, 1])
+    zero = np.flatnonzero(length <= 0)
+    if zero.size:
+        return d, int(zero[0])
+    return d / length[:, None], -1
+
+
 def spring_axes(spring_particles: np.ndarray, particle_coords: np.ndarray) -> np.ndarray:
     """(M, 2) unit vectors from each spring's first particle to its second."""
     d = particle_coords[spring_particles[:, 1]] - particle_coords[spring_particles[:, 0]]
-    length = np.hypot(d[:, 0], d[:, 1])
-    if np.any(length <= 0):
-        bad = int(np.flatnonzero(length <= 0)[0])
+    axes, bad = _unit_vectors(d)
+    if bad >= 0:
         raise ValueError(f"spring {bad} joins two particles at the same position")
-    return d / length[:, None]
+    return axes
 
 
 def pore_particle_directions(
@@ -170,12 +178,10 @@ def pore_particle_directions(
     particle_coords: np.ndarray,
 ) -> np.ndarray:
     """(P, 2) unit vectors from each pore centre towards each particle it touches."""
-    d = particle_coords[pair_particle] - pore_coords[pair_pore]
-    length = np.hypot(d[:, 0], d[:, 1])
-    if np.any(length <= 0):
-        bad = int(np.flatnonzero(length <= 0)[0])
+    directions, bad = _unit_vectors(particle_coords[pair_particle] - pore_coords[pair_pore])
+    if bad >= 0:
         raise ValueError(f"pore {int(pair_pore[bad])} sits on particle {int(pair_particle[bad])}")
-    return d / length[:, None]
+    return directions
 
 
 # -- any lattice: sparse direct solve -------------------------------------------------------

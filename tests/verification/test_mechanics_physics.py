@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import porenet
+from porenet.analysis.features import longest_straight_run
 from porenet.core.plan import make_plan
 from porenet.hooks import get_registry
 from porenet.io.runfile import read_run
@@ -26,18 +27,6 @@ def scene(n=30, fluid=None, seed=1, **solid):
 
 
 VISCOUS = {"kind": "viscous", "capillary_number": 1e-2, "integrator": "explicit"}
-
-
-def longest_straight_run(drained: np.ndarray, n: int) -> int:
-    grid = drained.reshape(n, n)
-    best = 0
-    for g in (grid, grid.T):
-        for row in g:
-            run = 0
-            for x in row:
-                run = run + 1 if x else 0
-                best = max(best, run)
-    return best
 
 
 def test_fracturing_number_from_modulus_matches_eq2():
@@ -84,9 +73,9 @@ def test_high_fracturing_number_opens_straight_segments(fluid):
     assert frac.summary["springs_removed"] >= 10
     # a straight open segment across two thirds of the lattice, longer than any of the rigid
     # pattern (seeds 1-3 at n = 30: 20-29 pores against 9-19 for the rigid medium)
-    straight = longest_straight_run(frac.data.drained, n)
+    straight = longest_straight_run(frac.data.as_grid(frac.data.drained))
     assert straight >= 2 * n // 3
-    assert straight > longest_straight_run(rigid.data.drained, n)
+    assert straight > longest_straight_run(rigid.data.as_grid(rigid.data.drained))
     removed = frac.data.mechanics_final["removed_springs"]
     assert removed.sum() == frac.summary["springs_removed"]
 

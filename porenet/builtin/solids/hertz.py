@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
 
+from porenet.analysis.numbers import fracturing_number, modulus_for
 from porenet.config.base import ModelConfig
 from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.interfaces import Lattice, RunContext, SolidModel
@@ -136,12 +136,8 @@ def scaled_modulus(config: HertzConfig, lattice: Lattice, context: RunContext) -
             "solid.fracturing_number needs the lattice's 'disorder' (lambda) to derive E*; "
             "this lattice has none (give solid.modulus instead)"
         )
-    return 1.0 / (float(config.fracturing_number) * float(disorder) * math.sqrt(config.prestrain))
-
-
-def fracturing_number(modulus_scaled: float, disorder: float, prestrain: float) -> float:
-    """Eq. 2: ``N_f = gamma / (lambda a E* eps_0^(1/2))`` with E* in units of gamma / a."""
-    return 1.0 / (disorder * modulus_scaled * math.sqrt(prestrain))
+    assert config.fracturing_number is not None
+    return modulus_for(config.fracturing_number, 1.0, float(disorder), 1.0, config.prestrain)
 
 
 class HertzSolid(SolidModel):
@@ -373,8 +369,9 @@ class HertzSolid(SolidModel):
             "apertures_at_cap": int(self._at_cap.sum()),
         }
         if self.disorder is not None:
+            # Eq. 2 in scaled units (gamma = a = 1)
             out["fracturing_number"] = fracturing_number(
-                self.modulus, float(self.disorder), self.config.prestrain
+                1.0, float(self.disorder), 1.0, self.modulus, self.config.prestrain
             )
         return out
 
