@@ -22,7 +22,14 @@ import math
 import numpy as np
 
 from porenet.kernels._jit import njit
-from porenet.kernels.mechanics import IN_CONTACT, OPEN, RECONTACT, REDUCED_RADIUS, apply_spring
+from porenet.kernels.mechanics import (
+    IN_CONTACT,
+    OPEN,
+    REDUCED_RADIUS,
+    apply_spring,
+    contact_law,
+    next_mode,
+)
 
 
 def find_chains(
@@ -331,15 +338,9 @@ def solve_chains(
         while True:
             iterations += 1
             for i in range(n_spr):
-                if local[i] == IN_CONTACT:
-                    k[i] = kh[i]
-                    b[i] = fl[i]
-                elif local[i] == OPEN:
-                    k[i] = cohesion_stiffness
-                    b[i] = cohesion_stiffness * hl[i]
-                else:
-                    k[i] = contact_stiffness
-                    b[i] = contact_stiffness * hl[i]
+                k[i], b[i] = contact_law(
+                    local[i], hl[i], fl[i], kh[i], cohesion_stiffness, contact_stiffness
+                )
             # Balance at interior particle j+1 (unknown j):
             # (k_j + k_{j+1}) v_j - k_j v_{j-1} - k_{j+1} v_{j+1} = f_j + b_j - b_{j+1}
             for j in range(n_int):
@@ -359,12 +360,9 @@ def solve_chains(
             for i in range(n_spr):
                 left = 0.0 if i == 0 else v[i - 1]
                 right = 0.0 if i == n_spr - 1 else v[i]
-                h_new = hl[i] + left - right
-                if local[i] != OPEN and h_new <= 0.0:
-                    local[i] = OPEN
-                    change = True
-                elif local[i] == OPEN and recontact and h_new > 0.0:
-                    local[i] = RECONTACT
+                new_mode = next_mode(local[i], hl[i] + left - right, recontact)
+                if new_mode != local[i]:
+                    local[i] = new_mode
                     change = True
             if not change:
                 break

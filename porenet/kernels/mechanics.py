@@ -187,21 +187,57 @@ def pore_particle_directions(
 # -- any lattice: sparse direct solve -------------------------------------------------------
 
 
-def _mode_laws(
+@njit(helper=True)
+def contact_law(
+    mode: int, h: float, force: float, tangent: float, cohesion: float, recontact: float
+) -> tuple[float, float]:
+    """One spring's linear law ``F_new = b + k dh`` in its ``mode`` (module docstring): returns
+    ``(k, b)``. ``tangent`` is the Hertz stiffness at ``h``, ``cohesion`` and ``recontact`` the
+    stiffnesses ``k_c`` and ``K_0``."""
+    if mode == IN_CONTACT:
+        return tangent, force
+    if mode == OPEN:
+        return cohesion, cohesion * h
+    return recontact, recontact * h
+
+
+@njit(helper=True)
+def next_mode(mode: int, h_new: float, recontact: bool) -> int:
+    """The mode after a solve that gave compression ``h_new``: a spring in contact opens at
+    ``h_new <= 0``; an open one closes again at ``h_new > 0`` if re-contact is allowed."""
+    if mode != OPEN and h_new <= 0.0:
+        return OPEN
+    if mode == OPEN and recontact and h_new > 0.0:
+        return RECONTACT
+    return mode
+
+
+@njit
+def _contact_laws(
+    mode: np.ndarray,
     h: np.ndarray,
     force: np.ndarray,
-    mode: np.ndarray,
-    modulus: float,
-    cohesion_stiffness: float,
-    contact_stiffness: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Stiffness ``k`` and force at ``dh = 0`` ``b`` of each spring's linear law (module doc)."""
-    k = np.where(mode == IN_CONTACT, hertz_stiffness(h, modulus), cohesion_stiffness)
-    b = np.where(mode == IN_CONTACT, force, cohesion_stiffness * h)
-    recontact = mode == RECONTACT
-    k[recontact] = contact_stiffness
-    b[recontact] = contact_stiffness * h[recontact]
-    return k, b
+    tangent: np.ndarray,
+    cohesion: float,
+    recontact: float,
+    k: np.ndarray,
+    b: np.ndarray,
+) -> None:
+    """:func:`contact_law` of every spring, into ``k`` and ``b``."""
+    for s in range(mode.shape[0]):
+        k[s], b[s] = contact_law(mode[s], h[s], force[s], tangent[s], cohesion, recontact)
+
+
+@njit
+def _next_modes(mode: np.ndarray, h_new: np.ndarray, recontact: bool) -> bool:
+    """:func:`next_mode` of every spring, in place; True if any changed."""
+    changed = False
+    for s in range(mode.shape[0]):
+        new = next_mode(mode[s], h_new[s], recontact)
+        if new != mode[s]:
+            mode[s] = new
+            changed = True
+    return changed
 
 
 def solve_sparse(
@@ -240,41 +276,44 @@ def solve_sparse(
     free = np.flatnonzero(~fixed)
     dof[free] = np.arange(2 * free.size).reshape(-1, 2)
     m_idx, n_idx = spring_particles[:, 0], spring_particles[:, 1]
+    # The matrix's pattern is fixed: entry e is k[spring[e]] * coef[e] at (row[e], col[e]).
+    rows, cols, coefs, springs = [], [], [], []
+    every = np.arange(len(m_idx))
+    for a in range(2):
+        for c in range(2):
+            for p, q, sgn in ((m_idx, m_idx, 1.0), (n_idx, n_idx, 1.0),
+                              (m_idx, n_idx, -1.0), (n_idx, m_idx, -1.0)):  # fmt: skip
+                rows.append(dof[p, a])
+                cols.append(dof[q, c])
+                coefs.append(sgn * axis[:, a] * axis[:, c])
+                springs.append(every)
+    row, col = np.concatenate(rows), np.concatenate(cols)
+    keep = (row >= 0) & (col >= 0)
+    row, col = row[keep], col[keep]
+    coef, spring = np.concatenate(coefs)[keep], np.concatenate(springs)[keep]
+    size = 2 * free.size
+    tangent = hertz_stiffness(h, modulus)
+    k, b = np.empty_like(h), np.empty_like(h)
     local = mode.copy()
     du = np.zeros((n_particles, 2))
     iterations, unsettled = 0, 0
     while True:
         iterations += 1
-        k, b = _mode_laws(h, force, local, modulus, cohesion_stiffness, contact_stiffness)
+        _contact_laws(local, h, force, tangent, cohesion_stiffness, contact_stiffness, k, b)
         rhs_full = load.copy()
         add_spring_loads(b, spring_particles, axis, rhs_full)
-        rows, cols, vals = [], [], []
-        for a in range(2):
-            for c in range(2):
-                kee = k * axis[:, a] * axis[:, c]
-                for p, q, sgn in ((m_idx, m_idx, 1.0), (n_idx, n_idx, 1.0),
-                                  (m_idx, n_idx, -1.0), (n_idx, m_idx, -1.0)):  # fmt: skip
-                    rows.append(dof[p, a])
-                    cols.append(dof[q, c])
-                    vals.append(sgn * kee)
-        r, c_, v = np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
-        keep = (r >= 0) & (c_ >= 0)
-        size = 2 * free.size
-        matrix = coo_matrix((v[keep], (r[keep], c_[keep])), shape=(size, size)).tocsc()
+        matrix = coo_matrix((k[spring] * coef, (row, col)), shape=(size, size)).tocsc()
         x = splu(matrix).solve(rhs_full[free].ravel())
         du[:] = 0.0
         du[free] = x.reshape(-1, 2)
         dh = -np.einsum("ij,ij->i", du[n_idx] - du[m_idx], axis)
-        h_new = h + dh
-        opening = (local != OPEN) & (h_new <= 0.0)
-        closing = (local == OPEN) & (h_new > 0.0) if recontact else np.zeros_like(opening)
-        if not (opening.any() or closing.any()):
+        new = local.copy()
+        if not _next_modes(new, h + dh, recontact):
             break
         if iterations >= max_iterations:
             unsettled = 1
             break
-        local[opening] = OPEN
-        local[closing] = RECONTACT
+        local = new
     mode[:] = np.where(local == OPEN, OPEN, IN_CONTACT)
     return du, dh, b + k * dh, iterations, unsettled
 
