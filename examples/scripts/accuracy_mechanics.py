@@ -156,31 +156,17 @@ def main() -> None:
         args.table.write_text("\n".join(lines) + "\n")
         print(f"table: {args.table}")
     if args.out:
-        from matplotlib.figure import Figure
-
+        from porenet.viz.accuracy import error_vs_wall
         from porenet.viz.pattern import save_figure
 
-        fig = Figure(figsize=(10, 3.4), dpi=130, layout="constrained")
-        axes = fig.subplots(1, 3)
-        for ax, metric in zip(axes, ("pattern", "breakthrough_time", "deformation"), strict=True):
-            nonzero = [r[metric] for r in rows if r[metric] > 0]
-            floor = min(nonzero, default=1e-6) / 3  # where an error of exactly 0 is drawn
-            for knob, marker in zip(KNOBS, "os^", strict=True):
-                pts = [(r["wall"], max(r[metric], floor), r["value"]) for r in rows
-                       if r["knob"] == knob]  # fmt: skip
-                ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=marker, label=knob)
-                for w, e, v in pts:
-                    ax.annotate(f"{v}", (w, e), fontsize=7, xytext=(3, 3),
-                                textcoords="offset points")  # fmt: skip
-            ax.axvline(wall_ref, color="k", lw=0.8, ls=":", label="reference (every step)")
-            ax.set_xlabel("wall time (s)")
-            ax.set_ylabel(f"{metric.replace('_', ' ')} error")
-            ax.grid(True, which="both", alpha=0.3)
-        axes[0].legend(fontsize=8)
-        fig.suptitle(
+        groups = [(knob, [r for r in rows if r["knob"] == knob], "-") for knob in KNOBS]
+        fig = error_vs_wall(
+            groups,
+            ("pattern", "breakthrough_time", "deformation"),
             f"coupling, n = {args.n}, Ca* = {args.ca_star:g}, N_f = {args.nf:g}, {args.seeds} "
             f"seed(s): mean error vs mean wall time (0 drawn at a third of the smallest error)",
-            fontsize=10,
+            reference_wall=wall_ref,
+            reference_label="reference (every step)",
         )
         save_figure(fig, args.out)
         print(f"figure: {args.out}")

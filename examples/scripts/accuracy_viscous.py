@@ -149,39 +149,24 @@ def main() -> None:
         args.table.write_text("\n".join(lines) + "\n")
         print(f"table: {args.table}")
     if args.out:
-        from matplotlib.figure import Figure
-
+        from porenet.viz.accuracy import error_vs_wall
         from porenet.viz.pattern import save_figure
 
-        fig = Figure(figsize=(10, 3.4), dpi=130, layout="constrained")
-        axes = fig.subplots(1, 3)
-        for ax, metric in zip(axes, ("pattern", "breakthrough_time", "pressure"), strict=True):
-            swept = [(i, k) for i in args.integrators for k in KNOBS[i]]
-            for (integrator, knob), marker in zip(swept, "os^vDP", strict=False):
-                pts = [
-                    (r["wall"], max(r[metric], 1e-16), r["value"])
-                    for r in rows
-                    if r["knob"] == knob and r["integrator"] == integrator
-                ]
-                ax.loglog(
-                    [p[0] for p in pts],
-                    [p[1] for p in pts],
-                    marker=marker,
-                    linestyle="-" if integrator == "explicit" else "--",
-                    label=f"{integrator}: {knob}",
-                )
-                for w, e, v in pts:
-                    ax.annotate(
-                        f"{v}", (w, e), fontsize=7, xytext=(3, 3), textcoords="offset points"
-                    )
-            ax.set_xlabel("wall time (s)")
-            ax.set_ylabel(f"{metric.replace('_', ' ')} error")
-            ax.grid(True, which="both", alpha=0.3)
-        axes[0].legend(fontsize=8)
-        fig.suptitle(
+        groups = [
+            (
+                f"{integrator}: {knob}",
+                [r for r in rows if r["knob"] == knob and r["integrator"] == integrator],
+                "-" if integrator == "explicit" else "--",
+            )
+            for integrator in args.integrators
+            for knob in KNOBS[integrator]
+        ]
+        fig = error_vs_wall(
+            groups,
+            ("pattern", "breakthrough_time", "pressure"),
             f"{' and '.join(args.integrators)}, n = {args.n}, Ca = {args.ca:g}: error vs wall "
             f"time (reference: {args.reference}, {wall_ref:.1f} s)",
-            fontsize=10,
+            zero_at=1e-16,
         )
         save_figure(fig, args.out)
         print(f"figure: {args.out}")

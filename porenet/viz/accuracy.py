@@ -1,0 +1,63 @@
+"""Work-precision figures: error against wall time, one panel per error measure."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+MARKERS = "os^vDP"
+
+
+def error_vs_wall(
+    groups: Sequence[tuple[str, Sequence[dict[str, Any]], str]],
+    metrics: Sequence[str],
+    title: str,
+    *,
+    zero_at: float | None = None,
+    reference_wall: float | None = None,
+    reference_label: str = "reference",
+) -> Figure:
+    """Log-log error against wall time, one panel per metric, one line per group.
+
+    Parameters
+    ----------
+    groups : sequence of (label, rows, linestyle)
+        Each row is a dict with ``"wall"`` (s), ``"value"`` (the setting, written beside its
+        point) and one error per metric.
+    metrics : sequence of str
+        Keys of the errors, one panel each (``"breakthrough_time"`` is labelled
+        "breakthrough time error").
+    title : str
+        Figure title.
+    zero_at : float, optional
+        Where an error of exactly 0 is drawn; default a third of the smallest non-zero error
+        of the panel.
+    reference_wall : float, optional
+        Draws the reference run's wall time as a dotted vertical line.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10, 3.4), dpi=130, layout="constrained")
+    axes = fig.subplots(1, len(metrics), squeeze=False)[0]
+    rows = [r for _, members, _ in groups for r in members]
+    for ax, metric in zip(axes, metrics, strict=True):
+        floor = zero_at
+        if floor is None:
+            floor = min((r[metric] for r in rows if r[metric] > 0), default=1e-6) / 3
+        for (label, members, style), marker in zip(groups, MARKERS, strict=False):
+            pts = [(r["wall"], max(r[metric], floor), r["value"]) for r in members]
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=marker,
+                      linestyle=style, label=label)  # fmt: skip
+            for w, e, v in pts:
+                ax.annotate(f"{v}", (w, e), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        if reference_wall is not None:
+            ax.axvline(reference_wall, color="k", lw=0.8, ls=":", label=reference_label)
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel(f"{metric.replace('_', ' ')} error")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle(title, fontsize=10)
+    return fig
