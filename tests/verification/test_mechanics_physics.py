@@ -9,6 +9,7 @@ import pytest
 
 import porenet
 from porenet.analysis.features import longest_straight_run
+from porenet.core.errors import ConfigError
 from porenet.core.plan import make_plan
 from porenet.hooks import get_registry
 from porenet.io.runfile import read_run
@@ -180,3 +181,26 @@ def test_implicit_integrator_follows_deformation():
     t_i, t_e = soft_implicit.data.invasion_time[-1], soft_explicit.data.invasion_time[-1]
     assert t_i == pytest.approx(t_e, rel=0.03)  # both integrators at their default accuracy
     assert soft_implicit.summary["volume_balance_error"] < 1e-12
+
+
+@pytest.mark.parametrize(
+    ("solid", "message"),
+    [
+        ({"modulus": 1e9, "fracturing_number": 1.0}, "exactly one of 'modulus'"),
+        ({}, "exactly one of 'modulus'"),
+        ({"fracturing_number": 1.0, "cohesion": 0.5}, "solid.cohesion"),
+        ({"fracturing_number": 1.0, "prestrain": 1.5}, "solid.prestrain"),
+    ],
+)
+def test_bad_solid_configs_name_the_field(solid, message):
+    with pytest.raises(ConfigError, match=message):
+        porenet.load_scene({**scene(n=8), "solid": {"kind": "hertz", **solid}})
+
+
+def test_fracturing_number_needs_the_lattice_disorder(tmp_path):
+    path = tmp_path / "apertures.npz"
+    np.savez(path, apertures=np.full(2 * 8 * 7, A))
+    sc = scene(n=8, fracturing_number=1.0)
+    sc["lattice"] = {"n": 8, "pore_size": A, "apertures_file": str(path)}
+    with pytest.raises(ConfigError, match="needs the lattice's 'disorder'"):
+        porenet.run(sc)
