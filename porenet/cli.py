@@ -69,7 +69,12 @@ def cmd_run(args: argparse.Namespace) -> int:
                 f"{s['capillary_number_measured']:.4g} (requested {s['capillary_number']:.4g}), "
                 f"volume balance {s['volume_balance_error']:.1e}"
             )
-        print(f"run file: {result.path}")
+        if s.get("classifier") is not None:
+            from porenet.analysis.classify import describe
+
+            print(f"  pattern: {describe(s)}")
+        if result.path is not None:
+            print(f"run file: {result.path}")
     if args.plot:
         from porenet.viz.pattern import save_figure
 
@@ -122,23 +127,59 @@ def cmd_plugins(args: argparse.Namespace) -> int:
 
 def cmd_plot(args: argparse.Namespace) -> int:
     from porenet.io.runfile import read_run
-    from porenet.viz.pattern import plot_pattern, save_figure
+    from porenet.viz.figures import make_figure, missing
+    from porenet.viz.pattern import save_figure
 
-    data = read_run(args.runfile)
-    out = Path(args.output) if args.output else Path(args.runfile).with_suffix(".png")
+    if args.pressure and args.kind not in (None, "pressure"):
+        raise ConfigError(f"--pressure means --kind pressure; it cannot go with --kind {args.kind}")
+    kind = "pressure" if args.pressure else (args.kind or "pattern")
+    run = Path(args.runfile)
+    default = run.with_name(f"{run.stem}.png" if kind == "pattern" else f"{run.stem}-{kind}.png")
+    out = Path(args.output) if args.output else default
     if not out.resolve().parent.is_dir():
         raise ConfigError(f"-o {out}: directory does not exist")
-    if args.pressure:
-        from porenet.viz.pressure import plot_pressure_halo
+    from matplotlib.backend_bases import FigureCanvasBase
 
-        try:
-            fig = plot_pressure_halo(data)
-        except ValueError as exc:
-            raise ConfigError(f"{args.runfile}: {exc}") from exc
-    else:
-        fig = plot_pattern(data)
-    save_figure(fig, out)
+    formats = FigureCanvasBase.get_supported_filetypes()
+    if out.suffix.lstrip(".").lower() not in formats:
+        raise ConfigError(f"-o {out}: unknown picture format; use one of {', '.join(formats)}")
+    data = read_run(run)
+    lack = missing(data, kind)
+    if lack is not None:
+        raise ConfigError(f"--kind {kind}: {run} {lack}")
+    try:
+        fig = make_figure(data, kind)
+    except ValueError as exc:
+        raise ConfigError(f"--kind {kind}: {run}: {exc}") from exc
+    save_figure(fig, out, **({"dpi": args.dpi} if args.dpi else {}))
     print(f"figure: {out}")
+    return 0
+
+
+def cmd_classify(args: argparse.Namespace) -> int:
+    from porenet.analysis.classify import classify_run, describe
+    from porenet.hooks import get_registry
+    from porenet.io.runfile import read_run, update_summary
+
+    data = read_run(args.runfile)
+    registry = get_registry()
+    kind = args.classifier or data.scene.get("classifier", {}).get("kind", "rules")
+    if kind == "none":
+        kind = "rules"  # the run skipped classification; classifying now is what was asked
+    if ("classifier", kind) not in registry:
+        known = ", ".join(sorted(e.kind for e in registry if e.family == "classifier"))
+        raise ConfigError(f"--classifier {kind}: unknown classifier kind (known: {known})")
+    entry = registry.get("classifier", kind)
+    config = entry.config()
+    if data.scene.get("classifier", {}).get("kind") == kind:
+        config = entry.config.model_validate(data.scene["classifier"])  # the run's settings
+    verdict = classify_run(data, entry.load()(config), kind)  # type: ignore[misc]
+    if not args.no_store:
+        update_summary(args.runfile, verdict)
+    if args.json:
+        print(json.dumps(verdict))
+    else:
+        print(f"{args.runfile}: {describe(verdict)}")
     return 0
 
 
@@ -179,13 +220,45 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=cmd_plugins)
 
-    p = sub.add_parser("plot", help="plot the pattern of a run file")
-    p.add_argument("runfile", help="run file (HDF5)")
-    p.add_argument("-o", "--output", help="picture to write (default: RUNFILE.png)")
-    p.add_argument(
-        "--pressure", action="store_true", help="plot log10(p / p_inv), the pressure halo"
+    from porenet.viz.figures import PLOT_KINDS
+
+    p = sub.add_parser(
+        "plot",
+        help="draw a figure of a run file (pattern, pressure, fractal fit, mechanics, ...)",
+        description="Draw a figure of a run file. Kinds:\n"
+        + "\n".join(f"  {k:<11} {d}" for k, (_, d) in PLOT_KINDS.items()),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    p.add_argument("runfile", help="run file (HDF5)")
+    p.add_argument(
+        "-k",
+        "--kind",
+        choices=list(PLOT_KINDS),
+        metavar="KIND",
+        help=f"what to draw: {', '.join(PLOT_KINDS)} (default pattern; see above)",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        help="picture to write, format from the suffix: png, pdf, svg, ... "
+        "(default: RUNFILE.png for the pattern, RUNFILE-KIND.png otherwise)",
+    )
+    p.add_argument("--dpi", type=float, help="resolution of raster pictures (default 300)")
+    p.add_argument("--pressure", action="store_true", help="same as --kind pressure")
     p.set_defaults(func=cmd_plot)
+
+    p = sub.add_parser("classify", help="label a run's pattern (CF, VF, FR, ...) and store it")
+    p.add_argument("runfile", help="run file (HDF5)")
+    p.add_argument(
+        "--classifier",
+        metavar="KIND",
+        help="classifier kind (default: the run's, else rules); see `porenet plugins`",
+    )
+    p.add_argument(
+        "--no-store", action="store_true", help="print only; leave the run file unchanged"
+    )
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=cmd_classify)
 
     p = sub.add_parser("schema", help="print the scene's JSON Schema (for editors)")
     p.set_defaults(func=cmd_schema)

@@ -10,7 +10,15 @@ import numpy as np
 
 from porenet._version import __version__
 from porenet.core.errors import ConfigError, NumericalError
-from porenet.core.interfaces import Coupler, FluidModel, Lattice, Observer, RunContext, SolidModel
+from porenet.core.interfaces import (
+    Classifier,
+    Coupler,
+    FluidModel,
+    Lattice,
+    Observer,
+    RunContext,
+    SolidModel,
+)
 from porenet.core.plan import Plan, make_plan
 from porenet.core.registry import Registry
 from porenet.core.state import State
@@ -79,6 +87,11 @@ class Simulation:
         for obs_config in scene.observers:
             self.observers.append(self.registry.get("observer", obs_config.kind).load()(obs_config))
         self.observers.extend(observers)
+        #: Labels the pattern at the end (scene section ``[classifier]``), if the plan asks.
+        self.classifier: Classifier | None = None
+        if plan.builds("classifier"):
+            entry = self.registry.get("classifier", scene.classifier.kind)
+            self.classifier = entry.load()(scene.classifier)  # type: ignore[misc]
         self.state = State.initial(self.lattice.n_pores, self.lattice.initial_apertures)
         self.build_time = time.perf_counter() - t0
 
@@ -137,6 +150,7 @@ class Simulation:
         """Run to the stop criterion and return the result (observers closed, file written)."""
         t0 = time.perf_counter()
         state = self.state
+        self._log_start()
         self.fluid.setup(state)
         if self.solid is not None:
             self.solid.setup(state)
@@ -170,10 +184,31 @@ class Simulation:
         self._check_finite()
         wall = time.perf_counter() - t0 + self.build_time
         result = RunResult(self._data(reason, wall), state, self.lattice, self.plan)
+        if self.classifier is not None:
+            from porenet.analysis.classify import classify_run
+
+            verdict = classify_run(result.data, self.classifier, self.plan.scene.classifier.kind)
+            result.data.summary.update(verdict)
+            log.info("pattern: %s", verdict)
         for obs in self.observers:
             obs.close(state, result)
         log.info("run finished: %s after %d pores in %.3f s", reason, state.n_drained, wall)
         return result
+
+    def _log_start(self) -> None:
+        """INFO: what runs and the plan's estimate; DEBUG: the whole plan."""
+        scene, cost = self.plan.scene, self.plan.cost
+        log.info(
+            "run start: scene %r, %s lattice of %d pores and %d throats, fluid %s, solid %s%s; "
+            "built in %.3f s",
+            scene.name, scene.lattice.kind, self.lattice.n_pores, self.lattice.n_throats,
+            scene.fluid.kind, scene.solid.kind if self.solid is not None else "none (rigid)",
+            f" (coupler {scene.solid.coupler})" if self.coupler is not None else "",
+            self.build_time,
+        )  # fmt: skip
+        if cost is not None:
+            log.info("estimate (docs/cost.md): %s", cost.summary())
+        log.debug("plan:\n%s", self.plan.describe())
 
     def _check_finite(self) -> None:
         state = self.state

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from porenet.builtin.classifiers import NoClassifierConfig
+from porenet.builtin.classifiers.rules import RulesClassifierConfig
+from porenet.builtin.classifiers.theory import TheoryClassifier, TheoryClassifierConfig
 from porenet.builtin.couplers.pressure_aperture import (
     PressureApertureConfig,
     PressureApertureCoupler,
@@ -43,3 +46,10 @@ def porenet_register_couplers(register: Register) -> None:
 @hookimpl
 def porenet_register_observers(register: Register) -> None:
     register(ProgressConfig, Progress)
+
+
+@hookimpl
+def porenet_register_classifiers(register: Register) -> None:
+    register(NoClassifierConfig, None)
+    register(RulesClassifierConfig, "porenet.builtin.classifiers.rules:RulesClassifier")
+    register(TheoryClassifierConfig, TheoryClassifier)

@@ -10,7 +10,7 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
-from porenet.config.scene import SceneBase, scene_model
+from porenet.config.scene import DEFAULT_KINDS, SceneBase, scene_model
 from porenet.core.errors import ConfigError
 from porenet.core.registry import Registry
 
@@ -95,8 +95,10 @@ def _walk_loc(data: Any, loc: tuple[Any, ...]) -> tuple[list[str], Any]:
     node = data
     missing = object()
     for item in loc:
-        if isinstance(node, dict) and item not in node and node.get("kind") == item:
-            continue  # the union tag
+        if isinstance(node, dict) and item not in node:
+            section_default = DEFAULT_KINDS.get(parts[-1]) if len(parts) == 1 else None
+            if item in (node.get("kind"), section_default):
+                continue  # the union tag (given, or the section's default kind)
         if isinstance(item, int):
             parts[-1:] = [f"{parts[-1]}[{item}]"] if parts else [f"[{item}]"]
         else:
@@ -124,8 +126,9 @@ def _allowed_fields(
         table = table[index] if index < len(table) else None
     if family in ("injection", "stop"):
         return list(SceneBase.model_fields[family].annotation.model_fields)  # type: ignore[union-attr]
-    if isinstance(table, dict) and (family, table.get("kind")) in registry:
-        return list(registry.get(family, table["kind"]).config.model_fields)
+    kind = table.get("kind", DEFAULT_KINDS.get(family)) if isinstance(table, dict) else None
+    if (family, kind) in registry:
+        return list(registry.get(family, kind).config.model_fields)
     return []
 
 

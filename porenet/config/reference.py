@@ -60,6 +60,7 @@ def config_reference(registry: Registry) -> str:
         "lattice": "[lattice]",
         "fluid": "[fluid]",
         "solid": "[solid]",
+        "classifier": "[classifier]",
         "observer": "[[observers]]",
     }
     for family, title in sections.items():

@@ -19,7 +19,11 @@ DEFAULT_KINDS: dict[str, str] = {
     "lattice": "square",
     "fluid": "invasion-percolation",
     "solid": "rigid",
+    "classifier": "rules",
 }
+
+#: Sections filled with their default kind when a scene omits them.
+DEFAULT_SECTIONS: tuple[str, ...] = ("solid", "classifier")
 
 
 class InjectionConfig(BaseModel):
@@ -67,7 +71,7 @@ class SceneBase(BaseModel):
             data = dict(data)
             for section, kind in DEFAULT_KINDS.items():
                 value = data.get(section)
-                if value is None and section == "solid":
+                if value is None and section in DEFAULT_SECTIONS:
                     data[section] = {"kind": kind}
                 elif isinstance(value, dict) and "kind" not in value:
                     data[section] = {"kind": kind, **value}
@@ -87,6 +91,10 @@ def scene_model(registry: Registry) -> type[SceneBase]:
         "lattice": (_union(registry.configs("lattice")), Field(description="[lattice] section")),
         "fluid": (_union(registry.configs("fluid")), Field(description="[fluid] section")),
         "solid": (_union(registry.configs("solid")), Field(description="[solid] section")),
+        "classifier": (
+            _union(registry.configs("classifier")),
+            Field(description="[classifier] section: labels the pattern at the end"),
+        ),
         "observers": (
             list[_union(registry.configs("observer"))],  # type: ignore[misc]
             Field(default_factory=list, description="[[observers]] tables"),

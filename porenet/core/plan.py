@@ -16,7 +16,12 @@ from porenet.analysis.numbers import (
     fracturing_number,
     modified_capillary_number,
 )
+from porenet.core.cost import CostEstimate, estimate_cost
 from porenet.core.registry import Registry
+
+#: Keys of :attr:`Plan.numbers` that other code reads.
+CA_STAR = "Ca* = Ca (L/a) / [lambda/(1-lambda^2)]"
+FRACTURING_NUMBER = "fracturing number N_f"
 
 
 @dataclass(frozen=True)
@@ -47,6 +52,13 @@ class Plan:
         Run file to write at the end.
     progress : bool
         Whether a progress display is attached.
+    numbers : dict of str to float
+        The dimensionless numbers the scene determines (:func:`dimensionless_numbers`).
+    regime : tuple of (str, float) or None
+        The regime the theory predicts (:func:`porenet.analysis.regimes.predict_regime`)
+        and its confidence; None when the scene does not determine it.
+    cost : CostEstimate or None
+        Estimated drained pores, steps, updates, memory and wall time (docs/cost.md).
     """
 
     scene: Any
@@ -55,6 +67,8 @@ class Plan:
     output: Path | None = None
     progress: bool = False
     numbers: dict[str, float] = field(default_factory=dict)
+    regime: tuple[str, float] | None = None
+    cost: CostEstimate | None = None
 
     def builds(self, family: str) -> bool:
         """True if at least one model of ``family`` will be built."""
@@ -71,8 +85,28 @@ class Plan:
             lines.append(f"  {status} {m.family:<10} {m.kind:<24} [{m.package}]  {m.reason}")
         if self.numbers:
             lines.append("numbers:")
+            width = max(20, *(len(key) for key in self.numbers))
             for key, value in self.numbers.items():
-                lines.append(f"  {key:<20} {value:.6g}")
+                lines.append(f"  {key:<{width}} {value:.6g}")
+        if self.regime is not None:
+            regime, confidence = self.regime
+            ca_star = self.numbers.get(CA_STAR)
+            nf = self.numbers.get(FRACTURING_NUMBER)
+            basis = [
+                "Ca* -> 0 (quasi-static)"
+                if not self.effects.get("viscous_dissipation")
+                else f"Ca* = {ca_star:.3g}",
+                f"N_f = {nf:.3g}" if nf is not None else "N_f = 0 (rigid)",
+            ]
+            lines.append(
+                f"predicted regime: {regime} (confidence {confidence:.2f}; "
+                f"{', '.join(basis)}; MODEL.md section 6)"
+            )
+        if self.cost is not None:
+            lines.append(
+                "estimated cost (a model, not a measurement: expect a factor ~2-3; docs/cost.md):"
+            )
+            lines.extend(self.cost.lines())
         lines.append(f"output: {self.output if self.output else 'none (nothing written)'}")
         return "\n".join(lines)
 
@@ -120,6 +154,7 @@ def make_plan(
         schedule = getattr(scene.solid, "coupling", None)
         reason = "fluid-solid exchange" + (f" ({schedule})" if schedule else "")
         models.append(ModelPlan("coupler", coupler_kind, package, True, reason))
+    models.append(_classifier_plan(scene, registry))
     for obs in scene.observers:
         entry = registry.get("observer", obs.kind)
         models.append(ModelPlan("observer", entry.kind, entry.package, True, "configured"))
@@ -127,14 +162,60 @@ def make_plan(
         models.append(ModelPlan("observer", "progress", "porenet", True, "terminal display"))
     if output is not None:
         models.append(ModelPlan("observer", "run-file", "porenet", True, f"writes {output}"))
+    numbers = dimensionless_numbers(scene)
     return Plan(
         scene=scene,
         effects=effects,
         models=tuple(models),
         output=None if output is None else Path(output),
         progress=progress,
-        numbers=dimensionless_numbers(scene),
+        numbers=numbers,
+        regime=predicted_regime(scene, numbers),
+        cost=_cost(scene),
     )
+
+
+def _classifier_plan(scene: Any, registry: Registry) -> ModelPlan:
+    """The classifier slot: built unless the scene has none or asks for none."""
+    config = getattr(scene, "classifier", None)
+    kind = str(getattr(config, "kind", "none"))
+    if config is None or getattr(type(config), "builds_nothing", False):
+        return ModelPlan("classifier", kind, "-", False, "not requested")
+    package = "-"
+    if ("classifier", kind) in registry:
+        package = registry.get("classifier", kind).package
+    return ModelPlan(
+        "classifier", kind, package, True, "labels the pattern at the end: D_f, regime"
+    )
+
+
+def _cost(scene: Any) -> CostEstimate:
+    """The cost estimate; a kind the model cannot read gives "unknown", never an error."""
+    try:
+        return estimate_cost(scene)
+    except (AttributeError, TypeError, ValueError, ZeroDivisionError) as exc:
+        return CostEstimate(None, None, None, None, None, (f"no estimate: {exc}",))
+
+
+def predicted_regime(scene: Any, numbers: dict[str, float]) -> tuple[str, float] | None:
+    """The regime of MODEL.md section 6 for the scene's Ca* and N_f, with its confidence.
+
+    Invasion percolation is the limit Ca -> 0 (Ca* None); a rigid solid is N_f = 0. None
+    when a viscous scene's Ca* cannot be computed (no disorder, pressure control).
+    """
+    from porenet.analysis.regimes import predict_regime
+
+    ca_star = numbers.get(CA_STAR)
+    quasi_static = not bool(
+        getattr(scene.fluid, "effects", lambda: {})().get("viscous_dissipation", False)
+    )
+    if ca_star is None and not quasi_static:
+        return None
+    nf = numbers.get(FRACTURING_NUMBER)
+    try:
+        return predict_regime(None if quasi_static else ca_star, nf)
+    except ValueError:
+        return None
 
 
 def dimensionless_numbers(scene: Any) -> dict[str, float]:
@@ -155,13 +236,17 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     if gamma is not None and pore_size is not None:
         numbers["capillary pressure gamma/a (Pa)"] = float(gamma) / float(pore_size)
     ca = getattr(scene.fluid, "capillary_number", None)
+    rate = getattr(scene.fluid, "injection_rate", None)
+    viscosity = getattr(scene.fluid, "viscosity", None)
+    if ca is None and None not in (rate, viscosity, gamma, pore_size, n):
+        # Ca = mu Q / (gamma A_b), A_b = 4 L a (centre) or L a (left edge)
+        sides = 1 if getattr(scene.injection, "at", "centre") == "left-edge" else 4
+        ca = float(rate) * float(viscosity) / (float(gamma) * sides * int(n) * pore_size**2)
     if ca is not None:
         numbers["Ca"] = float(ca)
         if lam is not None and n is not None and 0 < float(lam) < 1:
             # Ca* ~ 1 is the CF/VF crossover (Fig. 2); L_x is the crossover length in pores
-            numbers["Ca* = Ca (L/a) / [lambda/(1-lambda^2)]"] = modified_capillary_number(
-                float(ca), int(n), float(lam)
-            )
+            numbers[CA_STAR] = modified_capillary_number(float(ca), int(n), float(lam))
             numbers["crossover length L_x / a"] = disorder_factor(float(lam)) / float(ca)
     solid = scene.solid
     nf = getattr(solid, "fracturing_number", None)
@@ -170,5 +255,5 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     if nf is None and modulus is not None and None not in (gamma, pore_size, lam, prestrain):
         nf = fracturing_number(gamma, lam, pore_size, modulus, prestrain)
     if nf is not None:
-        numbers["fracturing number N_f"] = float(nf)
+        numbers[FRACTURING_NUMBER] = float(nf)
     return numbers

@@ -249,3 +249,25 @@ def read_run(path: str | Path) -> RunData:
             mechanics_final=mechanics_final,
             mechanics_series=mechanics_series,
         )
+
+
+def update_summary(path: str | Path, values: dict[str, Any]) -> None:
+    """Set attributes of an existing run file's ``/summary`` (``porenet classify``).
+
+    The file is checked with :func:`read_run` first, so only porenet run files are changed.
+
+    Raises
+    ------
+    RunFileError
+        If the file is not a readable run file or cannot be written.
+    """
+    import h5py
+
+    read_run(path)
+    try:
+        with h5py.File(path, "r+") as f:
+            for key, value in values.items():
+                if value is not None:
+                    f["summary"].attrs[key] = _attr(value)
+    except OSError as exc:
+        raise RunFileError(f"{path}: cannot update the run file: {exc}") from None

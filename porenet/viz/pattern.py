@@ -1,4 +1,4 @@
-"""The invasion pattern, coloured by drainage order."""
+"""The invasion pattern, coloured by drainage order or by invasion time."""
 
 from __future__ import annotations
 
@@ -6,40 +6,99 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from porenet.viz.style import SEQUENTIAL, TRAPPED_GREY, length_unit, scene_title, styled, time_unit
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
     from porenet.result import RunData
 
+#: What :func:`plot_pattern` can colour drained pores by.
+COLOR_BY = ("order", "time")
+
 
 def _length_unit(length_m: float) -> tuple[str, float]:
-    for unit, factor in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
-        if length_m >= factor:
-            return unit, factor
-    return "nm", 1e-9
+    return length_unit(length_m)
 
 
-def grid_axes(data: RunData, ax: Axes | None) -> tuple[Figure, Axes, tuple, str]:
+def grid_axes(
+    data: RunData, ax: Axes | None, figsize: tuple[float, float] = (5.0, 4.3)
+) -> tuple[Figure, Axes, tuple, str]:
     """A figure and axes for a map of a grid lattice (new ones unless ``ax`` is given), the
-    image extent in a readable length unit, and that unit."""
+    image extent ``(left, right, bottom, top)`` in a readable length unit, and that unit.
+
+    Pore ``(i, j)`` is drawn centred at ``x = (2j + 1) a``, ``y = (2i + 1) a`` (row 0 at the top),
+    as in ``RunData.pore_coords``.
+    """
     from matplotlib.figure import Figure
 
+    if data.grid_shape is None:
+        raise ValueError("this lattice has no grid layout, so it cannot be drawn as a map")
     if ax is None:
-        fig = Figure(figsize=(5.6, 4.8), dpi=150, layout="constrained")
+        fig = Figure(figsize=figsize, dpi=150, layout="constrained")
         ax = fig.add_subplot()
     else:
         fig = ax.figure  # type: ignore[assignment]
-    rows, cols = data.grid_shape  # type: ignore[misc]
+    rows, cols = data.grid_shape
     side = 2.0 * data.pore_size
-    unit, factor = _length_unit(max(rows, cols) * side)
+    unit, factor = length_unit(max(rows, cols) * side)
     return fig, ax, (0.0, cols * side / factor, rows * side / factor, 0.0), unit
 
 
+def label_map(ax: Axes, unit: str) -> None:
+    """Axis labels in ``unit`` and an equal aspect ratio."""
+    ax.set_xlabel(f"x ({unit})")
+    ax.set_ylabel(f"y ({unit})")
+    ax.set_aspect("equal")
+
+
+def draw_trapped(data: RunData, ax: Axes, extent: tuple, legend: bool = True) -> None:
+    """Trapped defender pores in grey (and a legend entry below the axes if any)."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    trapped = data.as_grid(data.trapped & ~data.drained).astype(float)
+    if not trapped.any():
+        return
+    trapped[trapped == 0] = np.nan
+    ax.imshow(trapped, cmap=ListedColormap([TRAPPED_GREY]), extent=extent, interpolation="nearest")
+    if legend:
+        ax.legend(
+            handles=[Patch(facecolor=TRAPPED_GREY, label="trapped defender")],
+            loc="upper right",
+            bbox_to_anchor=(1.0, -0.1),
+            borderaxespad=0.0,
+            handlelength=1.0,
+        )
+
+
+def pore_times(data: RunData) -> np.ndarray:
+    """(N,) invasion time of every pore (s), ``nan`` where never drained.
+
+    Raises ValueError for quasi-static runs, which record no times.
+    """
+    if data.invasion_time is None:
+        kind = data.scene.get("fluid", {}).get("kind", "?")
+        raise ValueError(
+            f"colouring by time needs a dynamic run; this {kind!r} run is quasi-static "
+            "(no invasion times recorded): colour by 'order' instead"
+        )
+    times = np.full(data.n_pores, np.nan)
+    times[data.order] = data.invasion_time
+    return times
+
+
+@styled
 def plot_pattern(
-    data: RunData, ax: Axes | None = None, cmap: str = "viridis", title: str | None = None
+    data: RunData,
+    ax: Axes | None = None,
+    cmap: str = SEQUENTIAL,
+    title: str | None = None,
+    color_by: str = "order",
 ) -> Figure:
-    """Drained pores coloured by drainage step; trapped defender grey; defender white.
+    """Drained pores coloured by drainage order or invasion time; trapped defender grey;
+    defender white.
 
     Parameters
     ----------
@@ -51,40 +110,49 @@ def plot_pattern(
         A perceptually uniform, colour-blind-safe map (default viridis).
     title : str, optional
         Defaults to a description of the scene.
+    color_by : {"order", "time"}
+        ``"order"``: drainage step (0 for the inlet). ``"time"``: time of drainage since the
+        start of injection, in s (dynamic runs only; ValueError otherwise).
     """
-    from matplotlib.colors import ListedColormap
-
+    if color_by not in COLOR_BY:
+        raise ValueError(f"color_by must be one of {', '.join(COLOR_BY)}, not {color_by!r}")
     if data.grid_shape is None:
         raise ValueError("plot_pattern needs a lattice with a grid layout")
-    rows = data.grid_shape[0]
-    step = data.drainage_step().astype(float)
-    step[step < 0] = np.nan
-    image = data.as_grid(step)
+    if color_by == "time":
+        values = pore_times(data)
+        t_unit, t_factor = time_unit(np.nanmax(values) if np.isfinite(values).any() else 1.0)
+        values = values / t_factor
+        label = f"invasion time ({t_unit})"
+    else:
+        values = data.drainage_step().astype(float)
+        values[values < 0] = np.nan
+        label = "drainage step"
     fig, ax, extent, unit = grid_axes(data, ax)
-    trapped = data.as_grid(data.trapped & ~data.drained).astype(float)
-    trapped[trapped == 0] = np.nan
-    ax.imshow(trapped, cmap=ListedColormap(["0.75"]), extent=extent, interpolation="nearest")
-    im = ax.imshow(image, cmap=cmap, extent=extent, interpolation="nearest")
-    fig.colorbar(im, ax=ax, label="drainage step", shrink=0.85)
-    ax.set_xlabel(f"x ({unit})")
-    ax.set_ylabel(f"y ({unit})")
-    ax.set_aspect("equal")
+    draw_trapped(data, ax, extent)
+    im = ax.imshow(data.as_grid(values), cmap=cmap, extent=extent, interpolation="nearest")
+    fig.colorbar(im, ax=ax, label=label, shrink=0.85)
+    label_map(ax, unit)
     if title is None:
-        scene = data.scene
-        lat, fluid = scene.get("lattice", {}), scene.get("fluid", {})
-        parts = [scene.get("name") or fluid.get("kind", ""), f"n = {rows}"]
-        if lat.get("disorder") is not None:
-            parts.append(f"λ = {lat['disorder']:g}")
+        fluid = data.scene.get("fluid", {})
+        extra = []
         if "trapping" in fluid:
-            parts.append("trapping" if fluid["trapping"] else "no trapping")
-        title = ", ".join(p for p in parts if p)
-    ax.set_title(title, fontsize=10)
+            extra.append("trapping" if fluid["trapping"] else "no trapping")
+        title = scene_title(data, extra)
+    ax.set_title(title)
     return fig
 
 
-def save_figure(fig: Figure, path: Any) -> None:
-    """Save a figure made without pyplot (Agg canvas)."""
+def save_figure(fig: Figure, path: Any, **kwargs: Any) -> None:
+    """Save a figure made without pyplot (Agg canvas; porenet's dpi and font defaults).
+
+    The format follows the file's suffix (png, pdf, svg, ...); ``kwargs`` go to
+    ``Figure.savefig``.
+    """
+    import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+    from porenet.viz.style import rc
+
     FigureCanvasAgg(fig)
-    fig.savefig(path)
+    with matplotlib.rc_context(rc()):
+        fig.savefig(path, **kwargs)

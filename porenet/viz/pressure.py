@@ -6,7 +6,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from porenet.viz.pattern import grid_axes
+from porenet.viz.pattern import grid_axes, label_map
+from porenet.viz.style import format_pressure, scene_title, styled, time_unit
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -40,6 +41,7 @@ def pressure_ratio(data: RunData, snapshot: int | None = None) -> tuple[np.ndarr
     return ratio, p_inv
 
 
+@styled
 def plot_pressure_halo(
     data: RunData,
     ax: Axes | None = None,
@@ -73,18 +75,13 @@ def plot_pressure_halo(
         image, cmap=cmap, extent=extent, interpolation="nearest", vmin=np.log10(floor), vmax=0.0
     )
     fig.colorbar(im, ax=ax, label=r"$\log_{10}(p / p_{inv})$", shrink=0.85)
-    ax.set_xlabel(f"x ({unit})")
-    ax.set_ylabel(f"y ({unit})")
-    ax.set_aspect("equal")
+    label_map(ax, unit)
     if title is None:
-        fluid = data.scene.get("fluid", {})
-        lam = data.scene.get("lattice", {}).get("disorder")
-        parts = [data.scene.get("name") or "viscous", f"n = {rows}"]
-        if fluid.get("capillary_number") is not None:
-            parts.append(f"Ca = {fluid['capillary_number']:g}")
-        if lam is not None:
-            parts.append(f"λ = {lam:g}")
-        parts.append(f"p_inv = {p_inv:.3g} Pa")
-        title = ", ".join(parts)
-    ax.set_title(title, fontsize=10)
+        extra = [f"p_inv = {format_pressure(p_inv)}"]
+        if snapshot is not None:
+            t = data.snapshots[snapshot].time
+            t_unit, t_factor = time_unit(t or 1.0)
+            extra.append(f"t = {t / t_factor:.3g} {t_unit}")
+        title = scene_title(data, extra)
+    ax.set_title(title)
     return fig

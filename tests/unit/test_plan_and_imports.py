@@ -24,6 +24,11 @@ def test_rigid_ip_scene_builds_no_solid_coupler_or_pressure(scene_dict):
     assert result.state.pressure is None and result.data.pressure is None
     assert result.data.final_apertures is None
     assert "rigid: apertures never change" in plan.describe()
+    fluid = next(m for m in plan.models if m.family == "fluid")
+    assert fluid.reason == "quasi-static: no pressure solve"
+    # the plan predicts capillary fingering, one step per drained pore and no solid update
+    assert plan.regime is not None and plan.regime[0] == "CF"
+    assert plan.cost.steps == plan.cost.drained and plan.cost.mechanical_updates == 0
 
 
 def test_apertures_never_change_in_rigid_medium(scene_dict):
@@ -72,3 +77,45 @@ def test_viscous_scene_plans_a_pressure_solve_and_reports_ca_star():
     assert abs(ca_star - 9e-4 * 400 / (0.3 / (1 - 0.09))) < 1e-12
     sim = Simulation(plan, reg)
     assert type(sim.fluid).solves_pressure is True and sim.solid is None
+    fluid = next(m for m in plan.models if m.family == "fluid")
+    assert fluid.built and fluid.reason == "pressure solve in the defending fluid"
+    assert plan.regime is not None and plan.regime[0] == "CF/VF"
+    text = plan.describe()
+    for expected in ("predicted regime: CF/VF", "estimated cost", "fluid steps", "wall time"):
+        assert expected in text
+
+
+def test_hertz_scene_builds_solid_and_coupler():
+    scene = {
+        "lattice": {"n": 20, "disorder": 0.1},
+        "fluid": {"kind": "viscous", "capillary_number": 2.5e-3},
+        "solid": {"kind": "hertz", "fracturing_number": 10.0, "prestrain": 0.05},
+    }
+    reg = get_registry()
+    plan = make_plan(load_scene(scene), reg)
+    assert plan.builds("solid") and plan.builds("coupler")
+    assert plan.effects["deformation"] is True
+    coupler = next(m for m in plan.models if m.family == "coupler")
+    assert coupler.kind == "pressure-aperture" and "adaptive" in coupler.reason
+    assert plan.numbers["fracturing number N_f"] == 10.0 and plan.regime[0] == "FR"
+    assert plan.cost.mechanical_updates > 0
+    sim = Simulation(plan, reg)
+    assert sim.solid is not None and sim.coupler is not None
+
+
+def test_the_simulation_runs_the_plan_make_plan_returns(scene_dict):
+    reg = get_registry()
+    plan = make_plan(load_scene(scene_dict), reg)
+    assert Simulation(plan, reg).plan is plan
+    assert Simulation.from_scene(scene_dict, registry=reg).plan == plan
+
+
+def test_classifier_slot_in_the_plan(scene_dict):
+    reg = get_registry()
+    plan = make_plan(load_scene(scene_dict), reg)
+    slot = [m for m in plan.models if m.family == "classifier"]
+    assert len(slot) == 1
+    if ("classifier", "none") in reg:
+        plan = make_plan(load_scene(scene_dict | {"classifier": {"kind": "none"}}), reg)
+        slot = next(m for m in plan.models if m.family == "classifier")
+        assert not slot.built and slot.reason == "not requested"

@@ -21,6 +21,10 @@ MENISCUS_LENGTH = 2.0
 _CHUNK = 256
 _STEP_CHUNK = 20_000
 
+#: ``integrator = "auto"`` picks the implicit integrator when the explicit one would need more
+#: than this times ``sqrt(N)`` steps per drained pore (docs/performance.md).
+AUTO_IMPLICIT_FACTOR = 80.0
+
 
 class ViscousConfig(ModelConfig):
     """Inviscid invader at one pressure displacing a viscous defender (Holtzman & Juanes 2010).
@@ -230,7 +234,8 @@ class ViscousDrainage(FluidModel):
         if self.config.control != "rate" or self._q <= 0:
             return "explicit"
         explicit_steps = 2.8 * float(np.mean(self._vol)) / (self._q * self._dt)
-        return "implicit" if explicit_steps > 80.0 * math.sqrt(self.lattice.n_pores) else "explicit"
+        limit = AUTO_IMPLICIT_FACTOR * math.sqrt(self.lattice.n_pores)
+        return "implicit" if explicit_steps > limit else "explicit"
 
     def _conductances(self, state: State) -> None:
         """Throat, pore and outlet properties from the apertures, the stable step and the

@@ -1,4 +1,13 @@
-"""Progress display on a terminal (stderr), quiet elsewhere."""
+"""Progress display on a terminal (stderr), quiet elsewhere.
+
+One status line, rewritten in place: drained pores, drainage rate, elapsed wall time, model
+time and step (time-dependent models), and an ETA. The number of pores a run will drain is
+not known in advance: the ETA divides the pores still expected by the rate so far, with the
+expected count from the plan's cost estimate (:mod:`porenet.core.cost`: ``stop.max_drained``
+when given, otherwise the model of docs/cost.md). It is labelled an estimate, shown only once
+the run has gone on for a few seconds and drained a few percent of what is expected, and
+dropped once the run passes the expected count.
+"""
 
 from __future__ import annotations
 
@@ -13,6 +22,11 @@ from porenet.core.interfaces import Observer
 from porenet.core.state import State
 from porenet.core.triggers import EverySeconds
 
+#: The ETA is shown only after this much wall time (s) ...
+ETA_MIN_ELAPSED = 2.0
+#: ... and this fraction of the expected drained pores.
+ETA_MIN_FRACTION = 0.02
+
 
 class ProgressConfig(ModelConfig):
     """Show drained pores, rate and elapsed time while a run goes on."""
@@ -21,35 +35,92 @@ class ProgressConfig(ModelConfig):
     every_seconds: float = Field(0.5, gt=0, description="Refresh interval (s of wall time).")
 
 
-class Progress(Observer):
-    """Writes a one-line status to a terminal; writes nothing when the stream is not a TTY."""
+def format_duration(seconds: float) -> str:
+    """``42 s``, ``3.5 min``, ``2.1 h``."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
 
-    def __init__(self, config: ProgressConfig | None = None, stream: TextIO | None = None) -> None:
+
+def eta_text(drained: int, expected: int | None, elapsed: float) -> str:
+    """``"ETA ~ 2.5 min (est.)"``, or ``""`` when an ETA would mean nothing (no expected
+    count, too early, or past the expected count)."""
+    if expected is None or expected <= 0 or drained <= 0:
+        return ""
+    if elapsed < ETA_MIN_ELAPSED or drained < ETA_MIN_FRACTION * expected:
+        return ""
+    remaining = expected - drained
+    if remaining <= 0:
+        return ""
+    return f"ETA ~ {format_duration(remaining * elapsed / drained)} (est.)"
+
+
+class Progress(Observer):
+    """Writes a one-line status to a terminal; writes nothing when the stream is not a TTY.
+
+    Parameters
+    ----------
+    config : ProgressConfig, optional
+    stream : text stream, optional
+        Where to write (default ``sys.stderr``); silent unless ``stream.isatty()``.
+    expected_drained : int, optional
+        Pores the run is expected to drain, for the ETA. Default: the plan's cost estimate
+        (``run.plan.cost.drained``), read at :meth:`attach`.
+    """
+
+    def __init__(
+        self,
+        config: ProgressConfig | None = None,
+        stream: TextIO | None = None,
+        expected_drained: int | None = None,
+    ) -> None:
         super().__init__(config or ProgressConfig())
         self.stream = stream if stream is not None else sys.stderr
         self.trigger = EverySeconds(self.config.every_seconds)
         self._t0 = time.perf_counter()
         self._total = 0
+        self._expected = expected_drained
         self._time_scale: float | None = None
         self._active = bool(getattr(self.stream, "isatty", lambda: False)())
+
+    @property
+    def expected_drained(self) -> int | None:
+        """The drained pores the ETA counts on (None: no ETA)."""
+        return self._expected
 
     def attach(self, run: Any) -> None:
         self._t0 = time.perf_counter()
         self._total = run.lattice.n_pores
         self._time_scale = run.scales.time
+        if self._expected is None:
+            cost = getattr(getattr(run, "plan", None), "cost", None)
+            self._expected = getattr(cost, "drained", None)
+        if self._expected is not None:
+            self._expected = min(int(self._expected), self._total)
+
+    def status(self, state: State, elapsed: float) -> str:
+        """The status line (without the carriage return)."""
+        rate = state.n_drained / elapsed if elapsed > 0 else 0.0
+        parts = [
+            f"drained {state.n_drained:>9d} / {self._total} pores",
+            f"{rate:9.0f} pores/s",
+            f"{format_duration(elapsed):>7}",
+        ]
+        if self._time_scale is not None:
+            parts.append(f"t = {state.time * self._time_scale:.3e} s, step {state.step}")
+        eta = eta_text(state.n_drained, self._expected, elapsed)
+        if eta:
+            parts.append(eta)
+        return "  ".join(parts)
 
     def observe(self, state: State) -> None:
         if not self._active:
             return
         elapsed = time.perf_counter() - self._t0
-        rate = state.n_drained / elapsed if elapsed > 0 else 0.0
-        model_time = ""
-        if self._time_scale is not None:
-            model_time = f"  t = {state.time * self._time_scale:.3e} s, step {state.step}"
-        self.stream.write(
-            f"\r  drained {state.n_drained:>9d} / {self._total} pores"
-            f"  {rate:9.0f} pores/s  {elapsed:7.1f} s{model_time}"
-        )
+        # "\x1b[K" clears what a longer previous line left behind.
+        self.stream.write(f"\r  {self.status(state, elapsed)}\x1b[K")
         self.stream.flush()
 
     def close(self, state: State, result: Any) -> None:

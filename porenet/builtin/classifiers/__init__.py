@@ -1,0 +1,18 @@
+"""Built-in pattern classifiers (kinds ``rules``, ``theory`` and ``none``).
+
+A classifier labels a finished run with a regime (MODEL.md section 7); the scene's
+``[classifier]`` section picks one (default ``rules``), ``kind = "none"`` skips the analysis.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar, Literal
+
+from porenet.config.base import ModelConfig
+
+
+class NoClassifierConfig(ModelConfig):
+    """No pattern analysis at the end of the run (nothing is built or computed)."""
+
+    kind: Literal["none"] = "none"
+    builds_nothing: ClassVar[bool] = True

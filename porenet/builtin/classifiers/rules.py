@@ -1,0 +1,121 @@
+"""The rule-based classifier: CF, VF, FR or an intermediate label from the pattern itself.
+
+MODEL.md section 7: D_f alone cannot classify a finite sample, so the rules combine it with
+geometric features (:func:`porenet.analysis.features.pattern_features`):
+
+1. **Fracturing** is recognised by thin straight runs: the fraction ``f`` of drained pores in
+   channels one pore wide and at least :data:`~porenet.analysis.features.LONG_RUN` pores
+   long. ``f >= fracture_fraction`` gives FR; ``fracture_onset <= f < fracture_fraction``
+   an intermediate FR/CF or FR/VF.
+2. **Capillary against viscous fingering** is a weighted vote of two indicators, each in
+   [-1, 1] (positive: CF): the mean finger width against ``width_split`` (CF clusters are fat,
+   VF fingers one pore wide) and the fractal dimension against ``dimension_split`` (after
+   removing the estimator's known finite-size bias, docs/fractal.md). The D_f vote is
+   weighted down when its uncertainty exceeds ``dimension_scale``. A vote within
+   ``intermediate_band`` of 0 gives CF/VF.
+
+Patterns too small to judge (fewer than ``min_drained`` pores, or a lattice without a grid)
+raise ``ValueError``; at the end of a run :func:`porenet.analysis.classify.classify_run` then
+falls back on the theory predictor, with its confidence halved. Thresholds and the accuracy
+they give on labelled ensembles: docs/classification.md.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+from pydantic import Field, model_validator
+
+from porenet.analysis.classify import measure_dimension
+from porenet.analysis.features import pattern_features
+from porenet.config.base import ModelConfig
+from porenet.core.interfaces import Classification, Classifier
+
+
+class RulesClassifierConfig(ModelConfig):
+    """Rule-based regime from D_f, finger width and straight runs (docs/classification.md)."""
+
+    kind: Literal["rules"] = "rules"
+    fracture_fraction: float = Field(
+        0.5, gt=0, le=1, description="Fraction of drained pores in thin straight runs for FR."
+    )
+    fracture_onset: float = Field(
+        0.15, ge=0, le=1, description="Fraction from which FR/CF or FR/VF is reported."
+    )
+    width_split: float = Field(
+        1.5, gt=1, description="Mean finger width (pores) between VF (below) and CF (above)."
+    )
+    width_scale: float = Field(
+        0.3, gt=0, description="Width difference (pores) that makes the width vote certain."
+    )
+    dimension_split: float = Field(
+        1.73, gt=1, lt=2, description="Bias-corrected D_f between VF (below) and CF (above)."
+    )
+    dimension_scale: float = Field(
+        0.09, gt=0, description="D_f difference that makes the D_f vote certain."
+    )
+    intermediate_band: float = Field(
+        0.25, ge=0, lt=1, description="Votes closer to 0 than this give CF/VF."
+    )
+    min_drained: int = Field(
+        20, ge=2, description="Smaller patterns fall back on the theory predictor."
+    )
+
+    @model_validator(mode="after")
+    def _ordered(self) -> RulesClassifierConfig:
+        if self.fracture_onset > self.fracture_fraction:
+            raise ValueError(
+                f"fracture_onset ({self.fracture_onset}) must not exceed "
+                f"fracture_fraction ({self.fracture_fraction})"
+            )
+        return self
+
+
+def _clip(x: float) -> float:
+    return max(-1.0, min(1.0, x))
+
+
+class RulesClassifier(Classifier):
+    """Labels a run from its pattern (see the module docstring)."""
+
+    config: RulesClassifierConfig
+
+    def __init__(self, config: RulesClassifierConfig | None = None) -> None:
+        super().__init__(config or RulesClassifierConfig())
+
+    def classify(self, run: Any) -> Classification:
+        c = self.config
+        data = getattr(run, "data", run)
+        if data.grid_shape is None:
+            raise ValueError("rules: the lattice has no grid layout")
+        if int(data.drained.sum()) < c.min_drained:
+            raise ValueError(f"rules: fewer than {c.min_drained} drained pores")
+        features = pattern_features(data)
+        fit = measure_dimension(data)
+        details: dict[str, Any] = dict(features)
+        # CF (+) against VF (-): width always votes, D_f with a weight set by its uncertainty
+        votes = [(1.0, _clip((features["finger_width_mean"] - c.width_split) / c.width_scale))]
+        if fit is not None:
+            corrected = fit.dimension - (0.0 if math.isnan(fit.bias) else fit.bias)
+            weight = min(1.0, c.dimension_scale / fit.error) if fit.error > 0 else 1.0
+            votes.append((weight, _clip((corrected - c.dimension_split) / c.dimension_scale)))
+            details.update(
+                fractal_dimension=fit.dimension,
+                fractal_dimension_error=fit.error,
+                fractal_dimension_corrected=corrected,
+            )
+        vote = sum(w * v for w, v in votes) / sum(w for w, _ in votes)
+        details["fingering_vote"] = vote
+        fingering = "CF" if vote > 0 else "VF"
+        f, hi, lo = features["thin_run_fraction"], c.fracture_fraction, c.fracture_onset
+        if f >= hi:
+            span = max(hi - lo, 1e-9)
+            return Classification("FR", 0.5 + 0.5 * min(1.0, (f - hi) / span), details)
+        if f >= lo:
+            middle, half = 0.5 * (hi + lo), max(0.5 * (hi - lo), 1e-9)
+            return Classification(f"FR/{fingering}", 1.0 - 0.5 * abs(f - middle) / half, details)
+        band = c.intermediate_band
+        if abs(vote) < band:
+            return Classification("CF/VF", 1.0 - 0.5 * abs(vote) / band if band else 1.0, details)
+        return Classification(fingering, 0.5 + 0.5 * min(1.0, abs(vote)), details)

@@ -1,0 +1,411 @@
+"""Estimated cost of a run, from its validated scene alone (the model of docs/cost.md).
+
+Nothing is built or imported beyond the scene's config: the estimate is arithmetic on the
+lattice size, the stop condition and the models' settings, with per-unit costs measured on
+the project's 2-core machine (``python tests/benchmarks/bench_cost.py`` prints predicted
+against measured). It aims at a factor ~2-3 on steps and wall time for the built-in kinds;
+kinds it has no model for give ``None`` ("unknown") rather than an error.
+
+The model, in short (docs/cost.md gives the measurements behind each constant; N = n^2
+pores):
+
+* **Drained pores.** Invasion percolation from the centre drains a fraction
+  ``0.21 n^-0.14`` of an ``n x n`` lattice by breakthrough (ensemble mean with trapping, x1.2
+  without), ``1.37 n^-0.167`` at completion with trapping, all of it without; left-edge
+  injection has its own fits. The viscous model is taken to drain as much (measured within
+  ~1.3x from Ca* = 0.3 to 10). A deformable medium that fractures drains few pores
+  (viscous: ~``2 n`` for ``N_f >= 1.5``; invasion percolation: ~``n / 2`` for
+  ``N_f >= 5``), interpolated geometrically from the rigid count over the ranges of
+  :data:`FRACTURE`. ``stop.max_drained`` caps it.
+* **Steps.** Invasion percolation: one per drained pore. Viscous, explicit integrator: the
+  pump delivers ``q = Ca A_b / a^2`` volumes ``a^3`` per unit scaled time (``A_b = 4 L a``
+  for centre injection, ``L a`` for left-edge), a drained pore takes ~2.8 mean pore volumes
+  (counting what the compressible defender stores), the step is the stability limit with
+  the widest throats, ``c_V / (2 c_A c_k r_max^4)`` with ``r_max = (1 + lambda) r_mean``, and
+  each landing adds a step: ``1 + 2.8 c_V / (q dt)`` steps per drained pore, counted on the
+  pores a rigid medium would drain (fracturing changes the time to breakthrough far less
+  than the drained count). Implicit integrator: 13 steps per drained pore.
+  ``integrator = "auto"`` is resolved by the model's own rule.
+* **Mechanical updates** (solid kind ``hertz``): one per fluid step (``every-step``), one
+  per ``coupling_interval`` steps, or, adaptive, a fraction ~0.3 of the steps for
+  ``N_f >= 0.1`` falling to 0 at ``N_f = 0.01`` (a stiff solid is never updated). With
+  invasion percolation, one per drained pore.
+* **Memory**: bytes per pore (lattice, state, records and the run data 240; the viscous
+  model +250; its implicit integrator +2000; the Hertzian solid +600), peak resident memory.
+* **Wall time** (build and run, seconds): invasion percolation ``3e-3 + 2.3e-7 N``; explicit
+  ``steps (1.5e-5 + 1.8e-9 N) + drained 2.9e-6 n``; implicit ``drained 0.039
+  (N / 2500)^1.41``; a deformable medium adds ``steps (3e-5 + 1.8e-9 N)`` (one step per
+  call and the coupler's check) and ``updates (2.3e-9 + 7e-9 w) N^1.15`` (``w`` = 1 when
+  fracturing). Python start-up, imports and the first-run numba compilation (~5 s, once per
+  machine) are not included.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from porenet.analysis.numbers import fracturing_number
+from porenet.builtin.fluids.viscous import AUTO_IMPLICIT_FACTOR
+
+#: Invasion percolation, centre injection, ensemble mean drained fraction at breakthrough
+#: ``a n^-b`` with trapping (n = 25-800, 12-32 seeds each; docs/cost.md).
+IP_BREAKTHROUGH_CENTRE = (0.21, 0.14)
+#: The same for left-edge injection (n = 25-400).
+IP_BREAKTHROUGH_EDGE = (0.96, 0.24)
+#: Drained fraction at completion with trapping, centre and left-edge injection.
+IP_COMPLETE_CENTRE = (1.37, 0.167)
+IP_COMPLETE_EDGE = (1.17, 0.183)
+#: Without trapping more is drained by breakthrough (ensemble medians, n = 25-800).
+IP_NO_TRAPPING_FACTOR = 1.2
+#: Injected mean pore volumes per drained pore (docs/model.md, "Dynamic viscous drainage").
+VOLUME_PER_DRAINED = 2.8
+#: Implicit integrator: steps per drained pore (~13 for Ca = 1e-4 to 1e-6, docs/performance.md).
+IMPLICIT_STEPS_PER_DRAINED = 13.0
+#: Fracturing, by fluid kind: drained pores per pore of side once fractured, and the N_f
+#: range interpolated over (viscous: Fig. 5 at n = 100 and 400; invasion percolation:
+#: n = 50 and 100, one straight fracture).
+FRACTURE = {"viscous": (2.0, (0.3, 1.5)), "invasion-percolation": (0.5, (1.0, 5.0))}
+#: Adaptive coupling: fraction of fluid steps followed by a mechanical update (N_f >= 0.1),
+#: and the N_f below which a solid is never updated at the default tolerance 3e-3.
+ADAPTIVE_UPDATE_FRACTION = 0.3
+ADAPTIVE_FULL_NF = 0.1
+ADAPTIVE_NONE_NF = 0.01
+ADAPTIVE_TOLERANCE = 3e-3
+
+#: Peak memory, bytes per pore.
+MEMORY_BASE = 240.0
+MEMORY_VISCOUS = 250.0
+MEMORY_IMPLICIT = 2000.0
+MEMORY_HERTZ = 600.0
+
+#: Wall time (s): invasion percolation, fixed and per pore.
+IP_SECONDS = (3e-3, 230e-9)
+#: Explicit viscous step: fixed and per pore of the lattice.
+EXPLICIT_STEP_SECONDS = (15e-6, 1.8e-9)
+#: Explicit viscous, per drained pore and pore of side (the located landing, new menisci).
+EXPLICIT_DRAINED_SECONDS = 2.9e-6
+#: Implicit viscous, per drained pore at N = 2500, and the exponent of N.
+IMPLICIT_DRAINED_SECONDS = (0.039, 1.41)
+#: Extra per fluid step in a deformable medium (one step per call, the coupler's check).
+COUPLED_STEP_SECONDS = (30e-6, 1.8e-9)
+#: One mechanical update of the Hertzian solid: ``(c + c_fracture w) N^p`` s, with ``w`` the
+#: fracture weight (contacts opening make an update ~4x dearer).
+UPDATE_SECONDS = (2.3e-9, 7e-9, 1.15)
+
+_KNOWN_FLUIDS = ("invasion-percolation", "viscous")
+
+
+@dataclass(frozen=True)
+class CostEstimate:
+    """Estimated size of a run (docs/cost.md); ``None`` where the model has no estimate.
+
+    Attributes
+    ----------
+    drained : int or None
+        Pores drained by the stop condition (inlets included).
+    steps : int or None
+        Fluid steps: time steps of the viscous model, drained pores of invasion percolation.
+    mechanical_updates : int or None
+        Solid updates (0 in a rigid medium).
+    memory_bytes : int or None
+        Peak memory of the run's arrays.
+    wall_seconds : float or None
+        Wall time of build and run on the calibration machine (no imports, no compilation).
+    notes : tuple of str
+        Assumptions and the parts the model does not cover.
+    """
+
+    drained: int | None
+    steps: int | None
+    mechanical_updates: int | None
+    memory_bytes: int | None
+    wall_seconds: float | None
+    notes: tuple[str, ...] = ()
+
+    def summary(self) -> str:
+        """The estimate on one line."""
+        return (
+            f"{_count(self.drained)} drained pores, {_count(self.steps)} steps, "
+            f"{_count(self.mechanical_updates)} mechanical updates, "
+            f"{format_bytes(self.memory_bytes)}, {format_seconds(self.wall_seconds)}"
+        )
+
+    def lines(self) -> list[str]:
+        """The estimate as text, one quantity a line, with units."""
+        return [
+            f"  {'drained pores':<20} {_count(self.drained)}",
+            f"  {'fluid steps':<20} {_count(self.steps)}",
+            f"  {'mechanical updates':<20} {_count(self.mechanical_updates)}",
+            f"  {'memory':<20} {format_bytes(self.memory_bytes)}",
+            f"  {'wall time':<20} {format_seconds(self.wall_seconds)}"
+            + (
+                " (build and run; not imports or numba's first compile)"
+                if self.wall_seconds
+                else ""
+            ),
+            *(f"  note: {note}" for note in self.notes),
+        ]
+
+
+def _count(value: int | None) -> str:
+    if value is None:
+        return "unknown"
+    if value == 0:
+        return "0"
+    return f"~{_round2(value):,}"
+
+
+def _round2(value: float) -> int:
+    """``value`` to two significant figures."""
+    if value < 100:
+        return round(value)
+    digits = math.floor(math.log10(value)) - 1
+    return int(round(value / 10**digits) * 10**digits)
+
+
+def format_bytes(value: float | None) -> str:
+    """``~12 MB`` style, or ``unknown``."""
+    if value is None:
+        return "unknown"
+    for unit, size in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if value >= size:
+            scaled = value / size
+            return f"~{scaled:.2g} {unit}" if scaled < 10 else f"~{_round2(scaled)} {unit}"
+    return f"~{value:.0f} B"
+
+
+def format_seconds(value: float | None) -> str:
+    """``~40 s``, ``~3.5 min``, ``~2.1 h``, or ``unknown``."""
+    if value is None:
+        return "unknown"
+    if value < 0.1:
+        return "< 0.1 s"
+    for unit, size, limit in (("s", 1, 90), ("min", 60, 5400), ("h", 3600, 48 * 3600)):
+        if value < limit:
+            scaled = value / size
+            return f"~{scaled:.2g} {unit}" if scaled < 10 else f"~{_round2(scaled)} {unit}"
+    return f"~{_round2(value / 86400)} days"
+
+
+def ip_drained_fraction(n: int, *, at: str, trapping: bool, injection: str = "centre") -> float:
+    """Expected fraction of an ``n x n`` lattice invasion percolation drains at the stop."""
+    edge = injection == "left-edge"
+    if at == "complete":
+        if not trapping:
+            return 1.0
+        a, b = IP_COMPLETE_EDGE if edge else IP_COMPLETE_CENTRE
+        return min(1.0, a * n**-b)
+    a, b = IP_BREAKTHROUGH_EDGE if edge else IP_BREAKTHROUGH_CENTRE
+    fraction = a * n**-b * (1.0 if trapping else IP_NO_TRAPPING_FACTOR)
+    return min(1.0, fraction)
+
+
+def fracture_weight(nf: float | None, fluid: str = "viscous") -> float:
+    """0 for a medium that does not fracture (rigid, or ``N_f`` below the fluid's range in
+    :data:`FRACTURE`), 1 for one that does (above it), linear in ``log N_f`` between."""
+    lo, hi = FRACTURE[fluid][1]
+    if nf is None or nf <= lo:
+        return 0.0
+    if nf >= hi:
+        return 1.0
+    return math.log(nf / lo) / math.log(hi / lo)
+
+
+def adaptive_update_fraction(nf: float | None, tolerance: float = ADAPTIVE_TOLERANCE) -> float:
+    """Fraction of fluid steps after which adaptive coupling updates the solid.
+
+    ~0.3 for ``N_f >= 0.1`` at the default tolerance, falling linearly in ``log N_f`` to 0 at
+    ``N_f = 0.01``; a larger tolerance acts like a stiffer solid (``N_f`` scaled by
+    ``3e-3 / tolerance``).
+    """
+    if nf is None:
+        return ADAPTIVE_UPDATE_FRACTION
+    x = nf * ADAPTIVE_TOLERANCE / tolerance if tolerance > 0 else math.inf
+    if x >= ADAPTIVE_FULL_NF:
+        return ADAPTIVE_UPDATE_FRACTION
+    if x <= ADAPTIVE_NONE_NF:
+        return 0.0
+    return (
+        ADAPTIVE_UPDATE_FRACTION
+        * math.log(x / ADAPTIVE_NONE_NF)
+        / math.log(ADAPTIVE_FULL_NF / ADAPTIVE_NONE_NF)
+    )
+
+
+def explicit_step(scene: Any, disorder: float) -> float:
+    """Stable explicit step (scaled time ``mu a / gamma``): ``c_V / (4 g_max)`` with
+    ``g_max = c_A c_k r_max^4 / 2`` the conductance of the widest throat."""
+    lat, fluid = scene.lattice, scene.fluid
+    r0 = _mean_aperture(lat)
+    c_area = float(getattr(lat, "area_factor", 1.0))
+    c_perm = float(getattr(lat, "permeability_factor", 1.0))
+    c_vol = float(getattr(lat, "volume_factor", 1.0))
+    g_max = c_area * c_perm * ((1.0 + disorder) * r0) ** 4 / 2.0
+    return float(getattr(fluid, "safety_factor", 1.0)) * c_vol / (4.0 * g_max)
+
+
+def _mean_aperture(lat: Any) -> float:
+    mean = getattr(lat, "mean_aperture", None)
+    size = getattr(lat, "pore_size", None)
+    return 1.0 if mean is None or not size else float(mean) / float(size)
+
+
+def pump_rate(scene: Any) -> float | None:
+    """Injection rate ``q`` in scaled units (volume ``a^3`` per scaled time ``mu a / gamma``),
+    ``None`` without rate control."""
+    fluid, lat = scene.fluid, scene.lattice
+    if getattr(fluid, "control", "rate") != "rate":
+        return None
+    n = int(lat.n)
+    cross_section = n if scene.injection.at == "left-edge" else 4 * n
+    ca = getattr(fluid, "capillary_number", None)
+    if ca is not None:
+        return float(ca) * cross_section
+    rate = getattr(fluid, "injection_rate", None)
+    if rate is None:
+        return None
+    a = float(getattr(lat, "pore_size", 1.0))
+    return float(rate) * float(fluid.viscosity) / (a**2 * float(fluid.interfacial_tension))
+
+
+def solid_fracturing_number(scene: Any) -> float | None:
+    """``N_f`` of the scene's solid (given, or from its modulus by Eq. 2), None if rigid."""
+    solid, lat = scene.solid, scene.lattice
+    nf = getattr(solid, "fracturing_number", None)
+    if nf is not None:
+        return float(nf)
+    modulus = getattr(solid, "modulus", None)
+    gamma = getattr(scene.fluid, "interfacial_tension", None)
+    lam = getattr(lat, "disorder", None)
+    pore = getattr(lat, "pore_size", None)
+    eps = getattr(solid, "prestrain", None)
+    if None in (modulus, gamma, lam, pore, eps):
+        return None
+    return fracturing_number(float(gamma), float(lam), float(pore), float(modulus), float(eps))
+
+
+def estimate_cost(scene: Any) -> CostEstimate:
+    """Estimate drained pores, steps, mechanical updates, memory and wall time of ``scene``.
+
+    ``scene`` is a validated scene; nothing is built. Kinds the model does not know give
+    ``None`` for what depends on them, with a note.
+    """
+    notes: list[str] = []
+    lat, fluid, solid, stop = scene.lattice, scene.fluid, scene.solid, scene.stop
+    n = getattr(lat, "n", None)
+    if n is None:
+        return CostEstimate(None, None, None, None, None, (f"lattice {lat.kind!r}: no size",))
+    n = int(n)
+    pores = n * n
+    if lat.kind != "square":
+        notes.append(f"lattice {lat.kind!r} costed as an {n} x {n} square lattice")
+    disorder = getattr(lat, "disorder", None)
+    if disorder is None:
+        disorder = 0.3
+        notes.append("apertures from a file: disorder taken as 0.3")
+    rigid = bool(getattr(type(solid), "builds_nothing", False))
+    hertz = solid.kind == "hertz"
+    if not rigid and not hertz:
+        notes.append(f"solid {solid.kind!r}: no cost model for its updates")
+    nf = None if rigid else solid_fracturing_number(scene)
+    at = scene.injection.at
+
+    if fluid.kind not in _KNOWN_FLUIDS:
+        drained = None if stop.max_drained is None else int(stop.max_drained)
+        notes.append(f"fluid {fluid.kind!r}: no cost model")
+        return CostEstimate(drained, None, None, None, None, tuple(notes))
+
+    # -- drained pores --------------------------------------------------------------------
+    trapping = bool(getattr(fluid, "trapping", True))
+    expected = pores * ip_drained_fraction(n, at=stop.at, trapping=trapping, injection=at)
+    if stop.max_drained is not None:
+        expected = min(expected, float(stop.max_drained))
+    #: What the medium would drain were it rigid: the viscous model's time to breakthrough,
+    #: and so its steps, change far less with fracturing than the drained count does.
+    unfractured = max(1.0, expected)
+    w = fracture_weight(nf, fluid.kind) if hertz else 0.0
+    if w > 0:
+        fractured = min(expected, FRACTURE[fluid.kind][0] * n)
+        expected = expected ** (1.0 - w) * fractured**w
+        notes.append(f"N_f = {nf:.3g}: fracturing expected, few pores drain")
+    drained = max(1.0, expected)
+
+    # -- steps and time -------------------------------------------------------------------
+    memory = MEMORY_BASE * pores
+    steps: float | None
+    wall: float | None
+    if fluid.kind == "invasion-percolation":
+        steps = drained
+        wall = IP_SECONDS[0] + IP_SECONDS[1] * pores
+        if not rigid:
+            notes.append("deformable: the invasion runs pore by pore")
+    else:
+        memory += MEMORY_VISCOUS * pores
+        q = pump_rate(scene)
+        if q is None or q <= 0:
+            notes.append(f"control = {fluid.control!r}: steps and time not modelled")
+            steps = wall = None
+        else:
+            dt = explicit_step(scene, float(disorder))
+            per_drained = VOLUME_PER_DRAINED * float(getattr(lat, "volume_factor", 1.0)) / (q * dt)
+            integrator = getattr(fluid, "integrator", "explicit")
+            if integrator == "auto":
+                limit = AUTO_IMPLICIT_FACTOR * math.sqrt(pores)
+                integrator = "implicit" if per_drained > limit else "explicit"
+            max_time = getattr(fluid, "max_time", None)
+            if max_time is not None:
+                t_scale = float(fluid.viscosity) * float(lat.pore_size)
+                t_scale /= float(fluid.interfacial_tension)
+                reachable = max_time / t_scale * q / VOLUME_PER_DRAINED
+                if reachable < unfractured:
+                    drained = min(drained, max(1.0, reachable))
+                    unfractured = max(1.0, reachable)
+                    notes.append("stops at max_time before the stop condition")
+            if integrator == "implicit":
+                memory += MEMORY_IMPLICIT * pores
+                steps = IMPLICIT_STEPS_PER_DRAINED * drained
+                c, p = IMPLICIT_DRAINED_SECONDS
+                wall = drained * c * (pores / 2500.0) ** p
+                notes.append("implicit integrator (integrator = 'auto' picks it here)")
+            else:
+                steps = unfractured * (1.0 + per_drained)
+                wall = steps * (EXPLICIT_STEP_SECONDS[0] + EXPLICIT_STEP_SECONDS[1] * pores)
+                wall += drained * EXPLICIT_DRAINED_SECONDS * n
+        if stop.at == "complete":
+            notes.append("stop.at = 'complete' with the viscous model: drained count from IP")
+
+    updates: float | None = 0.0
+    if not rigid:
+        if not hertz:
+            updates = None
+            wall = None
+        elif steps is None:
+            updates = None
+        else:
+            memory += MEMORY_HERTZ * pores
+            schedule = getattr(solid, "coupling", "every-step")
+            if fluid.kind == "invasion-percolation" or schedule == "every-step":
+                updates = steps
+            elif schedule == "interval":
+                updates = steps / max(1, int(getattr(solid, "coupling_interval", 1)))
+            else:
+                tol = float(getattr(solid, "coupling_tolerance", ADAPTIVE_TOLERANCE))
+                updates = steps * adaptive_update_fraction(nf, tol)
+            if wall is not None:
+                wall += steps * (COUPLED_STEP_SECONDS[0] + COUPLED_STEP_SECONDS[1] * pores)
+                c, c_fracture, p = UPDATE_SECONDS
+                wall += updates * (c + c_fracture * w) * pores**p
+
+    def _int(value: float | None) -> int | None:
+        return None if value is None else round(value)
+
+    return CostEstimate(
+        drained=_int(drained),
+        steps=_int(steps),
+        mechanical_updates=_int(updates),
+        memory_bytes=_int(memory),
+        wall_seconds=wall,
+        notes=tuple(notes),
+    )

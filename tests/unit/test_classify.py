@@ -1,0 +1,127 @@
+"""Classification of finished runs: at the end of `porenet run`, and `porenet classify`."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import h5py
+import pytest
+
+import porenet
+from porenet.analysis.classify import SUMMARY_KEYS, classify_run
+from porenet.analysis.regimes import REGIMES
+from porenet.cli import main
+from porenet.core.errors import PluginError
+from porenet.core.interfaces import Classification, Classifier
+from porenet.io.runfile import read_run
+
+IP = {"seed": 3, "lattice": {"n": 48, "disorder": 0.5}, "fluid": {"trapping": True}}
+
+
+@pytest.fixture(scope="module")
+def ip_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("classify") / "ip.h5"
+    porenet.run(IP, output=path)
+    return path
+
+
+def test_run_classifies_by_default_and_writes_the_summary(ip_file):
+    summary = read_run(ip_file).summary
+    assert summary["regime"] in REGIMES
+    assert 0 <= summary["regime_confidence"] <= 1
+    assert summary["classifier"] == "rules"
+    assert 1.0 < summary["fractal_dimension"] < 2.0
+    assert summary["fractal_dimension_error"] > 0
+
+
+def test_kind_none_builds_and_computes_nothing():
+    result = porenet.run(IP | {"classifier": {"kind": "none"}})
+    assert not result.plan.builds("classifier")
+    assert not set(SUMMARY_KEYS) & set(result.summary)
+
+
+def test_classify_command_stores_prints_and_switches_classifier(ip_file, capsys):
+    assert main(["classify", str(ip_file), "--classifier", "theory", "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["classifier"] == "theory" and printed["regime"] == "CF"
+    with h5py.File(ip_file) as f:
+        assert f["summary"].attrs["classifier"] == "theory"
+    assert main(["classify", str(ip_file), "--no-store"]) == 0
+    assert "rules" in capsys.readouterr().out
+    assert read_run(ip_file).summary["classifier"] == "theory"  # --no-store left it alone
+    assert main(["classify", str(ip_file)]) == 0
+    assert read_run(ip_file).summary["classifier"] == "rules"
+
+
+def test_classify_command_errors_name_the_problem(ip_file, tmp_path, capsys):
+    assert main(["classify", str(ip_file), "--classifier", "nope"]) == 2
+    assert "--classifier nope: unknown classifier kind" in capsys.readouterr().err
+    missing = tmp_path / "missing.h5"
+    assert main(["classify", str(missing)]) != 0
+    err = capsys.readouterr().err
+    assert str(missing) in err and "Traceback" not in err
+
+
+class Liar(Classifier):
+    def classify(self, run):
+        return Classification("bubbles", 2.0)
+
+
+class Refuser(Classifier):
+    def classify(self, run):
+        raise ValueError("pattern too small")
+
+
+def test_a_classifier_outside_the_contract_is_an_error(ip_file):
+    with pytest.raises(PluginError, match="'liar' returned regime 'bubbles'"):
+        classify_run(read_run(ip_file), Liar(), "liar")
+
+
+def test_a_classifier_that_cannot_judge_falls_back_on_theory(ip_file):
+    verdict = classify_run(read_run(ip_file), Refuser(), "refuser")
+    assert verdict["regime"] == "CF" and verdict["regime_confidence"] == pytest.approx(0.5)
+    assert "pattern too small" in verdict["classifier_note"]
+    assert math.isfinite(verdict["fractal_dimension"])
+
+
+def test_a_tiny_lattice_gets_the_theory_label():
+    result = porenet.run({"lattice": {"n": 3, "disorder": 0.5}, "fluid": {}})
+    assert result.summary["regime"] == "CF"
+    assert "fewer than" in result.summary["classifier_note"]
+
+
+def test_a_pattern_without_label_or_theory_is_reported_not_classified():
+    """Pressure control has no requested Ca, so no theory prediction to stand in for a
+    classifier that cannot judge: the run still ends, and says why it has no regime."""
+    scene = {
+        "lattice": {"n": 3, "disorder": 0.3},
+        "fluid": {"kind": "viscous", "control": "pressure", "injection_pressure": 1e7},
+    }
+    result = porenet.run(scene)
+    assert result.summary["regime"] is None
+    assert "not classified" in result.summary["classifier_note"]
+
+
+@pytest.mark.parametrize(
+    ("fluid", "solid", "expected"),
+    [
+        ({"trapping": True}, None, "CF"),
+        ({"kind": "viscous", "capillary_number": 0.05}, None, "VF"),  # Ca* ~ 30
+        ({"kind": "viscous", "capillary_number": 0.017}, {"fracturing_number": 10}, "FR"),
+    ],
+    ids=["invasion-percolation", "viscous", "viscous+hertz"],
+)
+def test_each_model_s_run_file_is_classified_as_its_regime(
+    tmp_path, capsys, fluid, solid, expected
+):
+    """A user's run file from each model, classified from the command line (n = 60, λ = 0.1:
+    deep inside each regime, docs/classification.md)."""
+    scene = {"seed": 4, "lattice": {"n": 60, "disorder": 0.1}, "fluid": fluid}
+    if solid is not None:
+        scene["solid"] = {"kind": "hertz", **solid}
+    path = tmp_path / "run.h5"
+    porenet.run(scene | {"classifier": {"kind": "none"}}, output=path)
+    assert main(["classify", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["regime"] == expected
+    assert read_run(path).summary["regime"] == expected

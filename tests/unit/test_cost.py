@@ -1,0 +1,133 @@
+"""The cost model (porenet.core.cost, docs/cost.md): estimates from the scene alone."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from porenet.config.loading import load_scene
+from porenet.core.cost import (
+    CostEstimate,
+    adaptive_update_fraction,
+    estimate_cost,
+    explicit_step,
+    format_bytes,
+    format_seconds,
+    fracture_weight,
+    ip_drained_fraction,
+)
+from porenet.core.plan import _cost as plan_cost
+from porenet.core.plan import make_plan
+from porenet.hooks import get_registry
+from porenet.simulation import Simulation
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+
+
+def within(pred: float, measured: float, factor: float) -> bool:
+    return measured / factor <= pred <= measured * factor
+
+
+def test_ip_drained_fractions():
+    # Ensemble means measured for docs/cost.md: 0.112 at n = 100, 0.084 at n = 400 and 800
+    assert within(ip_drained_fraction(100, at="breakthrough", trapping=True), 0.112, 1.1)
+    assert within(ip_drained_fraction(400, at="breakthrough", trapping=True), 0.084, 1.15)
+    assert ip_drained_fraction(100, at="complete", trapping=False) == 1.0
+    assert within(ip_drained_fraction(400, at="complete", trapping=True), 0.514, 1.05)
+    edge = ip_drained_fraction(100, at="breakthrough", trapping=True, injection="left-edge")
+    assert within(edge, 0.34, 1.15)
+    assert ip_drained_fraction(3, at="breakthrough", trapping=False) <= 1.0
+
+
+def test_invasion_percolation_one_step_per_pore_and_no_updates(scene_dict):
+    est = estimate_cost(load_scene(scene_dict))
+    assert est.steps == est.drained and est.mechanical_updates == 0
+    assert est.memory_bytes == pytest.approx(240 * 31**2, rel=0.01)
+    assert est.wall_seconds is not None and est.wall_seconds < 0.1
+
+
+def test_max_drained_caps_the_estimate(scene_dict):
+    est = estimate_cost(load_scene(scene_dict | {"stop": {"max_drained": 7}}))
+    assert est.drained == 7
+
+
+def test_fig1b_within_a_factor_of_the_documented_run():
+    # docs/performance.md: 12 435 drained pores, 147 455 steps, 58 s
+    est = estimate_cost(load_scene(SCENES / "fig1b.toml"))
+    assert within(est.drained, 12_435, 2) and within(est.steps, 147_455, 2)
+    assert within(est.wall_seconds, 58, 3) and est.mechanical_updates == 0
+
+
+def test_fig5_fractures_and_updates_the_solid():
+    # docs/fig5-table.md, N_f = 10: 790 drained, 30 793 steps, 19 148 updates, 221 s
+    est = estimate_cost(load_scene(SCENES / "fig5.toml"))
+    assert within(est.drained, 790, 1.5) and within(est.steps, 30_793, 2)
+    assert within(est.mechanical_updates, 19_148, 2) and within(est.wall_seconds, 221, 3)
+    assert any("fracturing" in note for note in est.notes)
+
+
+def test_stiff_solid_and_coupling_schedules():
+    assert adaptive_update_fraction(0.001) == 0.0 and adaptive_update_fraction(1.0) == 0.3
+    assert 0 < adaptive_update_fraction(0.03) < 0.3
+    assert fracture_weight(None) == 0 and fracture_weight(0.1) == 0 and fracture_weight(10) == 1
+    base = SCENES / "fig5.toml"
+    every = estimate_cost(load_scene(base, ["lattice.n=50", "solid.coupling=every-step"]))
+    assert every.mechanical_updates == every.steps
+    interval = ["lattice.n=50", "solid.coupling=interval", "solid.coupling_interval=4"]
+    est = estimate_cost(load_scene(base, interval))
+    assert est.mechanical_updates == pytest.approx(est.steps / 4, abs=1)
+
+
+@pytest.mark.parametrize(("ca", "integrator"), [(1e-2, "explicit"), (1e-6, "implicit")])
+def test_step_and_integrator_agree_with_the_model(ca, integrator):
+    scene = load_scene(
+        {"seed": 3, "lattice": {"n": 20, "disorder": 0.3},
+         "fluid": {"kind": "viscous", "capillary_number": ca}}
+    )  # fmt: skip
+    reg = get_registry()
+    sim = Simulation(make_plan(scene, reg), reg)
+    sim.fluid.setup(sim.state)
+    assert sim.fluid.integrator == integrator
+    # the estimate assumes the widest throats around one pore: a lower bound, close for large n
+    assert 0.75 * sim.fluid.dt_stable <= explicit_step(scene, 0.3) <= sim.fluid.dt_stable
+    notes = " ".join(estimate_cost(scene).notes)
+    assert ("implicit" in notes) == (integrator == "implicit")
+
+
+def test_unknown_kinds_give_unknown_not_an_error():
+    scene = SimpleNamespace(
+        lattice=SimpleNamespace(kind="square", n=10, disorder=0.3),
+        fluid=SimpleNamespace(kind="somebody.else"),
+        solid=SimpleNamespace(kind="rigid"),
+        stop=SimpleNamespace(at="breakthrough", max_drained=None),
+        injection=SimpleNamespace(at="centre"),
+    )
+    est = estimate_cost(scene)
+    assert est.steps is None and est.wall_seconds is None and est.drained is None
+    assert "unknown" in "\n".join(est.lines())
+    scene.lattice = SimpleNamespace(kind="graph")  # no size at all
+    est = estimate_cost(scene)
+    assert est.drained is None and est.memory_bytes is None and est.notes
+    # a config the model cannot read at all: the plan still gets an (unknown) estimate
+    broken = SimpleNamespace(lattice=SimpleNamespace(kind="square", n=10))
+    est = plan_cost(broken)
+    assert isinstance(est, CostEstimate) and est.wall_seconds is None
+    assert est.notes[0].startswith("no estimate")
+
+
+def test_pressure_control_has_no_step_estimate():
+    scene = load_scene(
+        {"lattice": {"n": 20, "disorder": 0.3},
+         "fluid": {"kind": "viscous", "control": "pressure", "injection_pressure": 1e6}}
+    )  # fmt: skip
+    est = estimate_cost(scene)
+    assert est.drained is not None and est.steps is None and est.wall_seconds is None
+
+
+def test_formats():
+    assert format_bytes(None) == "unknown" and format_bytes(174e6) == "~170 MB"
+    assert format_bytes(9.6e6) == "~9.6 MB"
+    assert format_seconds(0.01) == "< 0.1 s" and format_seconds(58) == "~58 s"
+    assert format_seconds(221) == "~3.7 min" and format_seconds(7200) == "~2 h"
