@@ -179,11 +179,11 @@ def _classifier_plan(scene: Any, registry: Registry) -> ModelPlan:
     """The classifier slot: built unless the scene has none or asks for none."""
     config = getattr(scene, "classifier", None)
     kind = str(getattr(config, "kind", "none"))
-    if config is None or getattr(type(config), "builds_nothing", False):
-        return ModelPlan("classifier", kind, "-", False, "not requested")
     package = "-"
     if ("classifier", kind) in registry:
         package = registry.get("classifier", kind).package
+    if config is None or getattr(type(config), "builds_nothing", False):
+        return ModelPlan("classifier", kind, package, False, "not requested")
     return ModelPlan(
         "classifier", kind, package, True, "labels the pattern at the end: D_f, regime"
     )

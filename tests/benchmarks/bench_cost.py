@@ -5,6 +5,8 @@
     python tests/benchmarks/bench_cost.py --full          # also Fig. 1b and Fig. 5 at n = 400
                                                           # (~1 and ~4 minutes)
     python tests/benchmarks/bench_cost.py --memory        # peak memory, one child per model
+    python tests/benchmarks/bench_cost.py --fractions     # IP drained fractions behind the
+                                                          # drained-pore model (~2 minutes)
 
 For each scene: the estimate of :func:`porenet.core.cost.estimate_cost` (from the validated
 scene alone) and the measured run (``Simulation.run``, numba cache warmed first on tiny
@@ -175,6 +177,41 @@ def run_memory(n: int) -> None:
         )
 
 
+def run_fractions(sizes: list[int], seeds: int) -> None:
+    """Drained fraction of invasion percolation (λ = 0.3) against n: mean ± sd over seeds at
+    breakthrough (with and without trapping) and at completion, centre and left-edge
+    injection."""
+    import numpy as np
+
+    import porenet
+
+    head = ("breakthrough (mean ± sd)", "no trapping", "complete", "left-edge breakthrough",
+            "left-edge complete")  # fmt: skip
+    print("| n | " + " | ".join(head) + " |")
+    print("|---" * (len(head) + 1) + "|")
+    for n in sizes:
+        cells = []
+        for at, stop, trap in (("centre", "breakthrough", True), ("centre", "breakthrough", False),
+                               ("centre", "complete", True), ("left-edge", "breakthrough", True),
+                               ("left-edge", "complete", True)):  # fmt: skip
+            count = seeds if stop == "breakthrough" else max(2, seeds // 8)
+            values = [
+                porenet.run(
+                    {
+                        "seed": s,
+                        "lattice": {"n": n, "disorder": 0.3},
+                        "fluid": {"trapping": trap},
+                        "injection": {"at": at},
+                        "stop": {"at": stop},
+                        "classifier": {"kind": "none"},
+                    }
+                ).summary["drained_fraction"]
+                for s in range(count)
+            ]
+            cells.append(f"{np.mean(values):.3f} ± {np.std(values, ddof=1):.3f}")
+        print(f"| {n} | " + " | ".join(cells) + " |", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="+", help="case names (default: all reduced cases)")
@@ -182,7 +219,13 @@ def main() -> None:
     parser.add_argument("--memory", action="store_true", help="measure peak memory instead")
     parser.add_argument("--memory-n", type=int, default=500)
     parser.add_argument("--memory-child", nargs=2, help=argparse.SUPPRESS)
+    parser.add_argument("--fractions", action="store_true", help="IP drained fractions vs n")
+    parser.add_argument("--sizes", type=int, nargs="+", default=[25, 50, 100, 200, 400, 800])
+    parser.add_argument("--seeds", type=int, default=32)
     args = parser.parse_args()
+    if args.fractions:
+        run_fractions(args.sizes, args.seeds)
+        return
     if args.memory_child:
         memory_child(args.memory_child[0], int(args.memory_child[1]))
         return
