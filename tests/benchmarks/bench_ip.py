@@ -57,6 +57,9 @@ def porenet_case(n: int, trapping: bool, apertures_file: Path, repeat: int):
             "lattice": {"n": n, "apertures_file": str(apertures_file), "pore_size": 1.0},
             "fluid": {"trapping": trapping, "interfacial_tension": 1.0},
             "stop": {"at": "complete"},
+            # like for like with OpenPNM, which does not classify the pattern: porenet's
+            # default classification adds ~15 ms at n = 400 (docs/performance.md)
+            "classifier": {"kind": "none"},
         },
         registry=reg,
     )
