@@ -183,6 +183,70 @@ def cmd_classify(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_phase_diagram(args: argparse.Namespace) -> int:
+    from porenet.viz.pattern import save_figure
+    from porenet.viz.phase import phase_points, plot_phase_diagram, points_table, read_summary
+
+    out = Path(args.output)
+    if not out.resolve().parent.is_dir():
+        raise ConfigError(f"-o {out}: directory does not exist")
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = FigureCanvasBase.get_supported_filetypes()
+    if out.suffix.lstrip(".").lower() not in formats:
+        raise ConfigError(f"-o {out}: unknown picture format; use one of {', '.join(formats)}")
+    table = read_summary(args.dir)
+    fig = plot_phase_diagram(table, axes=args.axes)
+    save_figure(fig, out, **({"dpi": args.dpi} if args.dpi else {}))
+    print(f"figure: {out}")
+    if args.table:
+        _, points = phase_points(table, args.axes)
+        Path(args.table).write_text(points_table(points), encoding="utf-8")
+        print(f"table: {args.table}")
+    return 0
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from porenet.sweep.runner import Progress, SweepInterrupted, format_progress, run_sweep
+
+    width = 0
+
+    def show(p: Progress) -> None:  # one line, redrawn in place (terminal only)
+        nonlocal width
+        line = f"{Path(args.sweep).name}: {format_progress(p)}"
+        sys.stderr.write("\r" + line.ljust(width))
+        sys.stderr.flush()
+        width = len(line)
+
+    tty = not args.quiet and sys.stderr.isatty()
+    try:
+        report = run_sweep(
+            args.sweep,
+            args.output,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            dask_local=args.dask_local,
+            retry_failed=args.retry_failed,
+            on_progress=show if tty else None,
+        )
+    except SweepInterrupted as exc:
+        print(f"{chr(10) if width else ''}porenet sweep: {exc}", file=sys.stderr)
+        return exc.exit_status
+    finally:
+        if width:
+            sys.stderr.write("\n")
+    if not args.quiet:
+        print(f"{Path(args.sweep).name}: {report.describe()}")
+    if report.failed:
+        print(
+            f"porenet sweep: {report.failed} run(s) failed: see the error column of "
+            f"{report.summary_path} and {report.out_dir / 'runs'}/*.error.txt "
+            "(--retry-failed runs them again)",
+            file=sys.stderr,
+        )
+    return 0
+
+
 def cmd_schema(args: argparse.Namespace) -> int:
     from porenet.config.scene import scene_model
     from porenet.hooks import get_registry
@@ -259,6 +323,54 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=cmd_classify)
+
+    p = sub.add_parser(
+        "phase-diagram",
+        help="draw a sweep's regimes on Ca-lambda (rigid) or N_f-Ca* (deformable) axes",
+    )
+    p.add_argument("dir", metavar="DIR", help="output directory of `porenet sweep`")
+    p.add_argument("-o", "--output", required=True, help="picture to write (png, pdf, svg, ...)")
+    p.add_argument(
+        "--axes",
+        choices=["auto", "ca-lambda", "nf-castar"],
+        default="auto",
+        help="ca-lambda: x = lambda, y = Ca (Fig. 2); nf-castar: x = Ca*, y = N_f (Fig. 3); "
+        "auto: nf-castar when the sweep has a fracturing number (default)",
+    )
+    p.add_argument("--table", metavar="MD", help="also write the points as a markdown table")
+    p.add_argument("--dpi", type=float, help="resolution of raster pictures (default 300)")
+    p.set_defaults(func=cmd_phase_diagram)
+
+    p = sub.add_parser(
+        "sweep",
+        help="run many scenes from a sweep file (resumable; local processes or dask)",
+        description="Run every point x replicate of SWEEP.toml into DIR (docs/sweeps.md): "
+        "DIR/runs/*.h5, DIR/summary.csv, DIR/sweep.json. Re-running the same command resumes; "
+        "a failing run is recorded and the sweep goes on.",
+    )
+    p.add_argument("sweep", metavar="SWEEP.toml", help="sweep file (TOML)")
+    p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory")
+    p.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help="parallel runs: local processes, or the LocalCluster's workers with --dask-local "
+        "(default: the number of CPUs, at most the runs to do; 1 runs in this process)",
+    )
+    where = p.add_mutually_exclusive_group()
+    where.add_argument(
+        "--scheduler", metavar="ADDRESS", help="submit to a dask.distributed scheduler"
+    )
+    where.add_argument(
+        "--dask-local", action="store_true", help="start a dask LocalCluster and use it"
+    )
+    p.add_argument(
+        "--retry-failed", action="store_true", help="run again the runs that failed before"
+    )
+    p.add_argument(
+        "-q", "--quiet", action="store_true", help="no progress and no final line on success"
+    )
+    p.set_defaults(func=cmd_sweep)
 
     p = sub.add_parser("schema", help="print the scene's JSON Schema (for editors)")
     p.set_defaults(func=cmd_schema)

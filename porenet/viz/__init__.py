@@ -14,6 +14,7 @@ from porenet.viz.mechanics import (
     plot_spring_removal,
 )
 from porenet.viz.pattern import plot_pattern, save_figure
+from porenet.viz.phase import plot_phase_diagram, read_summary
 from porenet.viz.pressure import plot_pressure_halo
 from porenet.viz.timeseries import plot_entry_pressure, plot_timeseries
 
@@ -26,8 +27,10 @@ __all__ = [
     "plot_fractal_fit",
     "plot_mechanics",
     "plot_pattern",
+    "plot_phase_diagram",
     "plot_pressure_halo",
     "plot_spring_removal",
     "plot_timeseries",
+    "read_summary",
     "save_figure",
 ]

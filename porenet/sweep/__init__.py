@@ -1,0 +1,43 @@
+"""Sweeps: many scenes from one file, run locally or on dask, resumable (docs/sweeps.md).
+
+    from porenet.sweep import run_sweep
+    report = run_sweep("examples/sweeps/demo.toml", "demo-out", workers=2)
+
+Importing this package loads neither dask nor h5py.
+"""
+
+from __future__ import annotations
+
+from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, SerialExecutor
+from porenet.sweep.runner import (
+    SUMMARY_FIELDS,
+    Progress,
+    RunTask,
+    SweepInterrupted,
+    SweepReport,
+    execute_run,
+    format_progress,
+    run_sweep,
+)
+from porenet.sweep.spec import DERIVED, RunSpec, Sweep, SweepSpec, expand, load_sweep
+
+__all__ = [
+    "DERIVED",
+    "SUMMARY_FIELDS",
+    "DaskExecutor",
+    "Executor",
+    "LocalExecutor",
+    "Progress",
+    "RunSpec",
+    "RunTask",
+    "SerialExecutor",
+    "Sweep",
+    "SweepInterrupted",
+    "SweepReport",
+    "SweepSpec",
+    "execute_run",
+    "expand",
+    "format_progress",
+    "load_sweep",
+    "run_sweep",
+]

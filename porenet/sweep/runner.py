@@ -1,0 +1,530 @@
+"""Running a sweep: output directory, resume, failures, ``summary.csv`` and progress.
+
+Layout of ``DIR`` (docs/sweeps.md)::
+
+    DIR/sweep.json              the resolved sweep: spec, columns and every run's scene
+    DIR/summary.csv             one row per finished run (rewritten atomically after each)
+    DIR/runs/<run_id>.h5        run files (written atomically by porenet)
+    DIR/runs/<run_id>.error.txt the message and traceback of a failed run
+
+Re-running the same sweep into the same ``DIR`` resumes: runs whose run file reads back with
+the intended scene are not run again, failed runs are not retried unless asked. A run file (or
+error record) whose scene differs from the sweep's is an error: a directory never mixes the
+runs of two different sweeps.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import json
+import logging
+import os
+import tempfile
+import time
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from porenet._version import __version__
+from porenet.core.errors import ConfigError, PorenetError, RunFileError
+from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, default_workers
+from porenet.sweep.spec import RunSpec, Sweep, columns, expand, load_sweep
+
+log = logging.getLogger(__name__)
+
+#: Values taken from each run's summary into ``summary.csv``.
+SUMMARY_FIELDS = (
+    "fractal_dimension",
+    "fractal_dimension_error",
+    "regime",
+    "regime_confidence",
+    "capillary_number_measured",
+    "wall_time_s",
+)
+
+SWEEP_JSON = "sweep.json"
+SUMMARY_CSV = "summary.csv"
+RUNS_DIR = "runs"
+
+
+class SweepInterrupted(PorenetError):
+    """Ctrl-C during a sweep; the message says how many runs finished."""
+
+    exit_status = 130
+
+
+# --------------------------------------------------------------------------- the worker side
+
+
+@dataclass(frozen=True)
+class RunTask:
+    """What a worker needs for one run (picklable)."""
+
+    run_id: str
+    scene: dict[str, Any]
+    output: str  # absolute path of the run file
+
+
+class _Capture(logging.Handler):
+    def __init__(self) -> None:
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        with contextlib.suppress(Exception):
+            self.messages.append(f"{record.levelname.lower()}: {record.getMessage()}")
+
+
+def _plain(value: Any) -> Any:
+    return value.item() if isinstance(value, np.generic) else value
+
+
+def one_line(exc: BaseException) -> str:
+    """``Type: message`` on one line."""
+    text = " ".join(str(exc).split())
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def execute_run(task: RunTask) -> dict[str, Any]:
+    """Run one scene and write its run file; never raises for a failing run.
+
+    Returns ``{"status": "done", <SUMMARY_FIELDS>, "task_time_s", "warnings"}`` or
+    ``{"status": "failed", "error", "traceback", "wall_time_s", "task_time_s", "warnings"}``.
+    The porenet log records of WARNING and above emitted during the run are returned in
+    ``warnings`` instead of being printed by the worker.
+    """
+    t0 = time.perf_counter()
+    logger = logging.getLogger("porenet")
+    capture, propagate = _Capture(), logger.propagate
+    logger.addHandler(capture)
+    logger.propagate = False
+    try:
+        from porenet.simulation import run
+
+        result = run(task.scene, output=task.output)
+        out: dict[str, Any] = {k: _plain(result.summary.get(k)) for k in SUMMARY_FIELDS}
+        out["status"] = "done"
+    except Exception as exc:
+        out = {
+            "status": "failed",
+            "error": one_line(exc),
+            "traceback": traceback.format_exc(),
+            "wall_time_s": time.perf_counter() - t0,
+        }
+    finally:
+        logger.removeHandler(capture)
+        logger.propagate = propagate
+    out["task_time_s"] = time.perf_counter() - t0
+    out["warnings"] = capture.messages
+    return out
+
+
+# --------------------------------------------------------------------------- files
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def _cell(value: Any) -> str:
+    value = _plain(value)
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, list | dict):
+        return json.dumps(value)
+    return str(value)
+
+
+def _flatten(data: Any, prefix: str = "") -> dict[str, Any]:
+    if not isinstance(data, dict):
+        return {prefix: data}
+    out: dict[str, Any] = {}
+    for key, value in data.items():
+        out.update(_flatten(value, f"{prefix}.{key}" if prefix else str(key)))
+    return out
+
+
+def scene_difference(recorded: dict[str, Any], intended: dict[str, Any], limit: int = 3) -> str:
+    """The first few dotted keys on which two scenes differ, ``key: old -> new``."""
+    a, b = _flatten(recorded), _flatten(intended)
+    keys = [k for k in dict.fromkeys([*a, *b]) if a.get(k, "<unset>") != b.get(k, "<unset>")]
+    shown = [f"{k}: {a.get(k, '<unset>')!r} -> {b.get(k, '<unset>')!r}" for k in keys[:limit]]
+    more = f" (and {len(keys) - limit} more)" if len(keys) > limit else ""
+    return "; ".join(shown) + more
+
+
+def _error_text(run: RunSpec, outcome: dict[str, Any]) -> str:
+    return (
+        f"{outcome['error']}\n\n{outcome.get('traceback') or ''}\n"
+        f"run_id: {run.run_id}\n"
+        f"wall_time_s: {outcome.get('wall_time_s', float('nan'))!r}\n"
+        f"scene: {json.dumps(run.scene, sort_keys=True)}\n"
+    )
+
+
+def _read_error(path: Path) -> tuple[str, float | None, dict[str, Any] | None]:
+    """Message, wall time and scene of a failed run's error record."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    message = lines[0] if lines else "failed"
+    wall: float | None = None
+    scene: dict[str, Any] | None = None
+    for line in reversed(lines[-3:]):
+        if line.startswith("scene: "):
+            with contextlib.suppress(ValueError):
+                scene = json.loads(line[len("scene: ") :])
+        elif line.startswith("wall_time_s: "):
+            with contextlib.suppress(ValueError):
+                wall = float(line[len("wall_time_s: ") :])
+    return message, wall, scene
+
+
+# --------------------------------------------------------------------------- progress
+
+
+@dataclass(frozen=True)
+class Progress:
+    """Where a sweep stands (given to ``on_progress`` after every finished run)."""
+
+    total: int  # runs in the sweep
+    done: int  # finished successfully (this session or before)
+    failed: int  # failed (this session or before)
+    to_run: int  # runs this session started with
+    finished_now: int  # of those, finished (done or failed)
+    elapsed_s: float  # since this session's runs started
+    workers: int | None
+    last: str | None = None  # run id just finished
+
+    @property
+    def eta_s(self) -> float | None:
+        """Time left: the mean wall time per run finished this session (as seen from the
+        sweep, i.e. elapsed / finished, which accounts for parallel workers) times the runs
+        left; None before the first run finishes."""
+        if self.finished_now == 0:
+            return None
+        return self.elapsed_s / self.finished_now * (self.to_run - self.finished_now)
+
+
+def _clock(seconds: float) -> str:
+    whole = round(seconds)
+    h, rest = divmod(whole, 3600)
+    m, s = divmod(rest, 60)
+    return f"{h}:{m:02d}:{s:02d}" if h else f"{m:02d}:{s:02d}"
+
+
+def format_progress(p: Progress) -> str:
+    """One line: ``12/36 runs, 1 failed, 00:42 elapsed, ETA 01:30``."""
+    eta = p.eta_s
+    return (
+        f"{p.done + p.failed}/{p.total} runs, {p.failed} failed, {_clock(p.elapsed_s)} elapsed"
+        + (f", ETA {_clock(eta)}" if eta is not None else "")
+    )
+
+
+# --------------------------------------------------------------------------- the sweep
+
+
+@dataclass
+class SweepReport:
+    """What a sweep did."""
+
+    out_dir: Path
+    total: int
+    done: int
+    failed: int
+    skipped: int  # finished before this session (done or failed), not run again
+    ran: int  # run this session
+    elapsed_s: float
+    executor: str
+    rows: list[dict[str, str]] = field(repr=False, default_factory=list)
+
+    @property
+    def summary_path(self) -> Path:
+        return self.out_dir / SUMMARY_CSV
+
+    def describe(self) -> str:
+        """The final line the CLI prints."""
+        return (
+            f"{self.total} runs: {self.done} done, {self.failed} failed"
+            f" ({self.ran} run now, {self.skipped} finished before); "
+            f"{_clock(self.elapsed_s)}; summary {self.summary_path}"
+        )
+
+
+class _Table:
+    """The rows of ``summary.csv`` (finished runs, in run order)."""
+
+    def __init__(self, out_dir: Path, runs: list[RunSpec], swept: list[str]) -> None:
+        self.path = out_dir / SUMMARY_CSV
+        self.order = {run.run_id: i for i, run in enumerate(runs)}
+        self.header = ["run_id", *swept, "seed", "status", *SUMMARY_FIELDS, "run_file", "error"]
+        self.rows: dict[str, dict[str, str]] = {}
+
+    def record(self, run: RunSpec, status: str, values: dict[str, Any], error: str = "") -> None:
+        row = {"run_id": run.run_id}
+        row.update({k: _cell(v) for k, v in run.params.items()})
+        row.update(seed=str(run.seed), status=status)
+        row.update({k: _cell(values.get(k)) for k in SUMMARY_FIELDS})
+        row.update(run_file=run.run_file if status == "done" else "", error=error)
+        self.rows[run.run_id] = row
+
+    def counts(self) -> tuple[int, int]:
+        done = sum(r["status"] == "done" for r in self.rows.values())
+        return done, len(self.rows) - done
+
+    def sorted_rows(self) -> list[dict[str, str]]:
+        return [self.rows[k] for k in sorted(self.rows, key=self.order.__getitem__)]
+
+    def write(self) -> None:
+        import io
+
+        buf = io.StringIO()
+        writer = csv.DictWriter(buf, fieldnames=self.header, lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(self.sorted_rows())
+        _atomic_write_text(self.path, buf.getvalue())
+
+
+def _clean_partials(out_dir: Path) -> None:
+    for directory in (out_dir, out_dir / RUNS_DIR):
+        for tmp in directory.glob(".*.partial"):
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+
+
+def _edited(path: Path, run: RunSpec, sweep: Sweep, recorded: dict[str, Any]) -> ConfigError:
+    return ConfigError(
+        f"{path}: run {run.run_id} was made with a different scene than {sweep.source} now "
+        f"gives it ({scene_difference(recorded, run.scene)}): the sweep file was edited; use a "
+        f"new output directory (-o): a sweep directory never mixes runs of different sweeps"
+    )
+
+
+def _scan(
+    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: _Table, retry_failed: bool
+) -> list[RunSpec]:
+    """Record finished runs in ``table``; return the runs to do. Refuses foreign files."""
+    from porenet.io.runfile import read_run
+
+    runs_dir = out_dir / RUNS_DIR
+    known = {run.run_id for run in runs}
+    for path in sorted([*runs_dir.glob("*.h5"), *runs_dir.glob("*.error.txt")]):
+        stem = path.name.split(".")[0]
+        if stem not in known:
+            raise ConfigError(
+                f"{path}: not a run of {sweep.source} as it now stands ({len(runs)} runs, "
+                f"{runs[0].run_id} to {runs[-1].run_id}): the sweep file was edited; use a new "
+                f"output directory (-o): a sweep directory never mixes runs of different sweeps"
+            )
+    todo: list[RunSpec] = []
+    for run in runs:
+        run_path = out_dir / run.run_file
+        error_path = runs_dir / f"{run.run_id}.error.txt"
+        if run_path.is_file():
+            try:
+                data = read_run(run_path)
+            except RunFileError as exc:
+                log.warning("%s: unreadable (%s); running it again", run_path, exc)
+            else:
+                if data.scene != run.scene:
+                    raise _edited(run_path, run, sweep, data.scene)
+                table.record(run, "done", data.summary)
+                continue
+        if error_path.is_file():
+            message, wall, scene = _read_error(error_path)
+            if scene is not None and scene != run.scene:
+                raise _edited(error_path, run, sweep, scene)
+            if not retry_failed:
+                table.record(run, "failed", {"wall_time_s": wall}, message)
+                continue
+        todo.append(run)
+    return todo
+
+
+def _make_executor(
+    n_todo: int, workers: int | None, scheduler: str | None, dask_local: bool
+) -> Executor:
+    if scheduler is not None and dask_local:
+        raise ConfigError("give either --scheduler ADDRESS or --dask-local, not both")
+    if workers is not None and workers < 1:
+        raise ConfigError(f"--workers {workers}: must be at least 1")
+    if scheduler is not None:
+        if workers is not None:
+            log.warning("--workers is ignored with --scheduler (the cluster has its workers)")
+        return DaskExecutor(scheduler)
+    n = workers if workers is not None else default_workers(n_todo)
+    if dask_local:
+        return DaskExecutor(local=True, workers=n)
+    return LocalExecutor(n)
+
+
+def run_sweep(
+    sweep_file: str | Path | Sweep,
+    out_dir: str | Path,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    dask_local: bool = False,
+    executor: Executor | None = None,
+    retry_failed: bool = False,
+    on_progress: Callable[[Progress], None] | None = None,
+) -> SweepReport:
+    """Run (or resume) a sweep into ``out_dir``.
+
+    Parameters
+    ----------
+    sweep_file : str, Path or Sweep
+        The sweep file (or one loaded with :func:`~porenet.sweep.spec.load_sweep`).
+    out_dir : str or Path
+        Output directory, created if needed.
+    workers : int, optional
+        Local worker processes (default ``os.cpu_count()`` capped at the runs to do), or the
+        LocalCluster's workers with ``dask_local``.
+    scheduler : str, optional
+        Address of a dask scheduler to submit the runs to.
+    dask_local : bool
+        Start a dask ``LocalCluster`` of ``workers`` workers.
+    executor : Executor, optional
+        Use this executor instead (not closed here).
+    retry_failed : bool
+        Run again the runs that failed before.
+    on_progress : callable, optional
+        Called with a :class:`Progress` when the runs start and after each finished run.
+
+    Raises
+    ------
+    ConfigError
+        Invalid sweep or point (nothing runs), or ``out_dir`` holds runs of another sweep.
+    SweepInterrupted
+        On Ctrl-C, after stopping the workers; finished runs are kept.
+    """
+    sweep = sweep_file if isinstance(sweep_file, Sweep) else load_sweep(sweep_file)
+    runs = expand(sweep)
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ConfigError(f"-o {out}: exists and is not a directory")
+    (out / RUNS_DIR).mkdir(parents=True, exist_ok=True)
+    _clean_partials(out)
+    swept = columns(sweep.spec)
+    table = _Table(out, runs, swept)
+    todo = _scan(out, runs, sweep, table, retry_failed)
+    # the executor first: an unreachable scheduler fails before anything is written
+    ex = executor
+    if ex is None and todo:
+        ex = _make_executor(len(todo), workers, scheduler, dask_local)
+    own = executor is None and ex is not None
+    t0 = time.perf_counter()
+    finished_now = 0
+
+    def progress(last: str | None) -> None:
+        if on_progress is not None:
+            done, failed = table.counts()
+            elapsed = time.perf_counter() - t0
+            n_workers = ex.workers if ex else None
+            on_progress(
+                Progress(len(runs), done, failed, len(todo), finished_now, elapsed, n_workers, last)
+            )
+
+    try:
+        _write_resolved(out, sweep, runs, swept)
+        table.write()
+        log.info("sweep %r: %d runs, %d finished before, %d to run", sweep.spec.name,
+                 len(runs), len(runs) - len(todo), len(todo))  # fmt: skip
+        by_id = {run.run_id: run for run in todo}
+        tasks = [RunTask(r.run_id, r.scene, str((out / r.run_file).resolve())) for r in todo]
+        t0 = time.perf_counter()
+        progress(None)
+        if ex is not None and todo:
+            log.info("running %d runs on %s", len(todo), ex.describe())
+            with contextlib.closing(ex.run(tasks, execute_run)) as outcomes:  # type: ignore[type-var]
+                for task, outcome in outcomes:
+                    _finish(out, by_id[task.run_id], outcome, table)
+                    finished_now += 1
+                    table.write()
+                    progress(task.run_id)
+    except KeyboardInterrupt:
+        _clean_partials(out)
+        done, failed = table.counts()
+        raise SweepInterrupted(
+            f"interrupted: {done + failed} of {len(runs)} runs finished ({failed} failed; "
+            f"{finished_now} in this session); re-running the same command resumes"
+        ) from None
+    finally:
+        if own and ex is not None:
+            ex.close()
+    done, failed = table.counts()
+    return SweepReport(out, len(runs), done, failed, len(runs) - len(todo), finished_now,
+                       time.perf_counter() - t0, ex.describe() if ex else "nothing to run",
+                       table.sorted_rows())  # fmt: skip
+
+
+def _write_resolved(out: Path, sweep: Sweep, runs: list[RunSpec], swept: list[str]) -> None:
+    """``DIR/sweep.json``: the spec, the summary's columns and every run with its scene."""
+    resolved = {
+        "porenet_version": __version__,
+        "sweep_file": str(Path(sweep.source).resolve()) if sweep.source.exists() else None,
+        "base_scene_file": None if isinstance(sweep.spec.base, dict) else sweep.base_source,
+        "spec": sweep.spec.model_dump(mode="json"),
+        "columns": swept,
+        "runs": [
+            {"run_id": r.run_id, "point": r.point, "replicate": r.replicate, "seed": r.seed,
+             "params": r.params, "run_file": r.run_file, "scene": r.scene}
+            for r in runs
+        ],
+    }  # fmt: skip
+    _atomic_write_text(out / SWEEP_JSON, json.dumps(resolved, indent=1) + "\n")
+
+
+def _finish(out: Path, run: RunSpec, outcome: Any, table: _Table) -> None:
+    """Record one outcome: a result dict of :func:`execute_run`, or an exception."""
+    error_path = out / RUNS_DIR / f"{run.run_id}.error.txt"
+    if isinstance(outcome, BaseException) and not isinstance(outcome, Exception):
+        raise KeyboardInterrupt  # a worker was interrupted: so are we
+    if isinstance(outcome, Exception):
+        # not the run's failure but the executor's (a dead worker, ...): recorded in the
+        # summary, with no error record, so that re-running tries again
+        message = one_line(outcome)
+        log.error("%s: could not run: %s", run.run_id, message)
+        table.record(run, "failed", {}, f"executor: {message}")
+        return
+    for message in outcome.get("warnings", ()):
+        log.info("%s: %s", run.run_id, message)
+    if outcome["status"] == "done":
+        with contextlib.suppress(FileNotFoundError):
+            error_path.unlink()
+        table.record(run, "done", outcome)
+        return
+    log.info("%s failed: %s", run.run_id, outcome["error"])
+    _atomic_write_text(error_path, _error_text(run, outcome))
+    table.record(run, "failed", outcome, outcome["error"])
+
+
+__all__ = [
+    "SUMMARY_FIELDS",
+    "Progress",
+    "RunTask",
+    "SweepInterrupted",
+    "SweepReport",
+    "execute_run",
+    "format_progress",
+    "run_sweep",
+]
