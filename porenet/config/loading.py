@@ -68,21 +68,38 @@ def parse_override(item: str) -> tuple[list[str], Any]:
     return key.split("."), value
 
 
+def get_dotted(data: dict[str, Any], key: str) -> Any:
+    """The value at dotted ``key`` (``"lattice.n"``) of nested dicts, or None if absent."""
+    node: Any = data
+    for part in key.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return None
+        node = node[part]
+    return node
+
+
+def set_dotted(data: dict[str, Any], key: str, value: Any, label: str | None = None) -> None:
+    """Set dotted ``key`` of nested dicts in place, making missing tables; ``UNSET`` removes
+    the key. A part that is not a table is a ConfigError naming ``label`` (default: the key)."""
+    node = data
+    parts = key.split(".")
+    for part in parts[:-1]:
+        child = node.setdefault(part, {})
+        if not isinstance(child, dict):
+            raise ConfigError(f"{label or key}: {part!r} is not a table")
+        node = child
+    if value is UNSET:
+        node.pop(parts[-1], None)
+    else:
+        node[parts[-1]] = value
+
+
 def apply_overrides(data: dict[str, Any], overrides: list[str] | tuple[str, ...]) -> dict[str, Any]:
     """Return a copy of ``data`` with dotted ``KEY=VALUE`` overrides applied."""
     data = copy.deepcopy(data)
     for item in overrides:
         path, value = parse_override(item)
-        node = data
-        for part in path[:-1]:
-            child = node.setdefault(part, {})
-            if not isinstance(child, dict):
-                raise ConfigError(f"--set {item!r}: {part!r} is not a table")
-            node = child
-        if value is UNSET:
-            node.pop(path[-1], None)
-        else:
-            node[path[-1]] = value
+        set_dotted(data, ".".join(path), value, label=f"--set {item!r}")
     return data
 
 

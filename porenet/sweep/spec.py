@@ -25,6 +25,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
+from porenet.config.loading import format_validation_error, get_dotted, read_toml, set_dotted
 from porenet.core.errors import ConfigError
 
 
@@ -247,8 +248,6 @@ def load_sweep(sweep: str | Path | dict[str, Any], *, base_dir: Path | None = No
     ConfigError
         Naming the file, the dotted field and the bad value.
     """
-    from porenet.config.loading import read_toml
-
     if isinstance(sweep, dict):
         data, source, where = sweep, Path("<sweep>"), base_dir or Path.cwd()
     else:
@@ -322,26 +321,6 @@ def points(spec: SweepSpec) -> list[dict[str, Any]]:
     return [dict(zip(keys, combo, strict=True)) for combo in combos]
 
 
-def _set_dotted(data: dict[str, Any], key: str, value: Any) -> None:
-    node = data
-    parts = key.split(".")
-    for part in parts[:-1]:
-        child = node.setdefault(part, {})
-        if not isinstance(child, dict):
-            raise ConfigError(f"{key}: {part!r} is not a table")
-        node = child
-    node[parts[-1]] = copy.deepcopy(value)
-
-
-def _get_dotted(data: dict[str, Any], key: str) -> Any:
-    node: Any = data
-    for part in key.split("."):
-        if not isinstance(node, dict) or part not in node:
-            return None
-        node = node[part]
-    return node
-
-
 def resolved_view(
     data: dict[str, Any], registry: Any, context: dict[str, Any] | None = None
 ) -> dict[str, Any]:
@@ -386,7 +365,6 @@ def expand(sweep: Sweep) -> list[RunSpec]:
         For the first invalid point, naming the sweep file, the point's parameters and the
         scene's message. Nothing has run.
     """
-    from porenet.config.loading import format_validation_error
     from porenet.config.scene import scene_model
     from porenet.hooks import get_registry
 
@@ -408,7 +386,7 @@ def expand(sweep: Sweep) -> list[RunSpec]:
             data = copy.deepcopy(sweep.base_scene)
             for key, value in point.items():
                 if key not in DERIVED:
-                    _set_dotted(data, key, value)
+                    set_dotted(data, key, copy.deepcopy(value))
             data.pop("seed", None)
             for key, value in point.items():
                 if key in DERIVED:
@@ -420,9 +398,9 @@ def expand(sweep: Sweep) -> list[RunSpec]:
             ) from None
         params: dict[str, Any] = {}
         for key, value in point.items():
-            params[key] = value if key in DERIVED else _get_dotted(scene, key)
+            params[key] = value if key in DERIVED else get_dotted(scene, key)
             for target in DERIVED[key].sets if key in DERIVED else ():
-                params[target] = _get_dotted(scene, target)
+                params[target] = get_dotted(scene, target)
         for r in range(spec.replicates):
             seed = replicate_seed(spec.root_seed, r)
             # validated twice so that the stored scene is exactly what a worker's run records

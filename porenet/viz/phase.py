@@ -50,6 +50,7 @@ import numpy as np
 
 from porenet.analysis.numbers import disorder_factor, modified_capillary_number
 from porenet.analysis.regimes import INTERMEDIATE_HALF_WIDTH, REGIMES
+from porenet.config.loading import get_dotted
 from porenet.core.errors import ConfigError
 from porenet.viz.style import SEQUENTIAL, styled
 
@@ -244,20 +245,11 @@ class _RunCache:
         return self._cache[path]
 
 
-def _dig(scene: dict[str, Any], dotted: str) -> Any:
-    node: Any = scene
-    for part in dotted.split("."):
-        if not isinstance(node, dict) or part not in node:
-            return None
-        node = node[part]
-    return node
-
-
 def _fracturing_number(scene: dict[str, Any], summary: dict[str, Any]) -> float | None:
     if (scene.get("solid") or {}).get("kind", "rigid") == "rigid":
         return None
     nf = _number(summary.get("fracturing_number"))
-    return nf if nf is not None else _number(_dig(scene, "solid.fracturing_number"))
+    return nf if nf is not None else _number(get_dotted(scene, "solid.fracturing_number"))
 
 
 def _group(table: SummaryTable) -> list[list[dict[str, Any]]]:
@@ -339,7 +331,7 @@ def phase_points(
         def value(column: str, first: dict[str, Any] = first, scene: dict = scene) -> float | None:
             v = _number(first.get(column))
             if v is None and column not in table.columns:
-                v = _number(_dig(scene, column))
+                v = _number(get_dotted(scene, column))
             return v
 
         lam, ca, n_val = value(_LAMBDA), value(_CA), value(_N)
