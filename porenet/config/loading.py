@@ -156,6 +156,9 @@ def format_validation_error(
     lines = []
     for err in exc.errors(include_url=False):
         parts, value = _walk_loc(data, tuple(err["loc"]))
+        if err["type"] == "union_tag_invalid" and (not parts or parts[-1] != "kind"):
+            # pydantic >= 2.12 reports a bad discriminator at the table, not at its `kind`
+            parts, value = [*parts, "kind"], err.get("ctx", {}).get("tag", value)
         dotted = ".".join(parts) or "(scene)"
         msg = err["msg"]
         if err["type"] == "extra_forbidden":

@@ -78,7 +78,9 @@ def test_broken_plugin_is_isolated_unless_strict():
 
     mod = plugin_module(porenet_register_lattices=porenet_register_lattices)
     reg = build_registry(strict=False, extra_plugins={"broken": mod})
-    assert reg.kinds("lattice") == ["square"] and reg.failures[0][0] == "broken"
+    # the other plugins still register (whatever else is installed, e.g. porenet-correlated)
+    assert reg.kinds("lattice") == build_registry(strict=False).kinds("lattice")
+    assert "square" in reg.kinds("lattice") and reg.failures[0][0] == "broken"
     with pytest.raises(PluginError, match="broken on purpose"):
         build_registry(strict=True, extra_plugins={"broken": mod})
 
