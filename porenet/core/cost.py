@@ -47,7 +47,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from porenet.analysis.numbers import fracturing_number
-from porenet.builtin.fluids.viscous import AUTO_IMPLICIT_FACTOR
+from porenet.builtin.fluids.viscous import auto_integrator
 
 #: Invasion percolation, centre injection, ensemble mean drained fraction at breakthrough
 #: ``a n^-b`` with trapping (n = 25-800, 12-32 seeds each; docs/cost.md).
@@ -63,6 +63,14 @@ IP_NO_TRAPPING_FACTOR = 1.2
 VOLUME_PER_DRAINED = 2.8
 #: Implicit integrator: steps per drained pore (~13 for Ca = 1e-4 to 1e-6, docs/performance.md).
 IMPLICIT_STEPS_PER_DRAINED = 13.0
+#: RKC integrator: stage sweeps per drained pore are ``RKC_STAGES sqrt(1.54 T rho)`` (T the
+#: time a pore takes, ``2.8 / q``; rho the spectral radius, ~0.7 of the Gershgorin bound
+#: 2 / dt) plus ``RKC_EXPLICIT`` explicit steps near each landing; a stage sweep costs
+#: ``RKC_STAGE_FACTOR`` times an explicit step's sweep (docs/performance.md).
+RKC_STAGES = 3.2
+RKC_EXPLICIT = 12.0
+RKC_RHO_FRACTION = 0.7
+RKC_STAGE_FACTOR = 1.6
 #: Fracturing, by fluid kind: drained pores per pore of side once fractured, and the N_f
 #: range interpolated over (viscous: Fig. 5 at n = 100 and 400; invasion percolation:
 #: n = 50 and 100, one straight fracture).
@@ -352,8 +360,7 @@ def estimate_cost(scene: Any) -> CostEstimate:
             per_drained = VOLUME_PER_DRAINED * float(getattr(lat, "volume_factor", 1.0)) / (q * dt)
             integrator = getattr(fluid, "integrator", "explicit")
             if integrator == "auto":
-                limit = AUTO_IMPLICIT_FACTOR * math.sqrt(pores)
-                integrator = "implicit" if per_drained > limit else "explicit"
+                integrator = auto_integrator(per_drained, pores)
             max_time = getattr(fluid, "max_time", None)
             if max_time is not None:
                 t_scale = float(fluid.viscosity) * float(lat.pore_size)
@@ -369,6 +376,15 @@ def estimate_cost(scene: Any) -> CostEstimate:
                 c, p = IMPLICIT_DRAINED_SECONDS
                 wall = drained * c * (pores / 2500.0) ** p
                 notes.append("implicit integrator (integrator = 'auto' picks it here)")
+            elif integrator == "rkc":
+                rho = RKC_RHO_FRACTION * 2.0 / dt
+                stages = RKC_STAGES * math.sqrt(1.54 * per_drained * dt * rho)
+                steps = unfractured * (RKC_EXPLICIT + stages / 10.0)
+                c0, c1 = EXPLICIT_STEP_SECONDS
+                wall = unfractured * stages * (c0 + RKC_STAGE_FACTOR * c1 * pores)
+                wall += unfractured * RKC_EXPLICIT * (c0 + c1 * pores)
+                wall += drained * EXPLICIT_DRAINED_SECONDS * n
+                notes.append("rkc integrator (stabilised explicit steps)")
             else:
                 steps = unfractured * (1.0 + per_drained)
                 wall = steps * (EXPLICIT_STEP_SECONDS[0] + EXPLICIT_STEP_SECONDS[1] * pores)

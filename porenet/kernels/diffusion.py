@@ -258,7 +258,13 @@ def spread(
                     if apos[j] < 0 and not drained[j]:
                         activate(j, act, apos, cnt)
         return
-    n = grid_n
+    grow_where_reached(box, grid_n, p, floor, 1)
+
+
+@njit(helper=True)
+def grow_where_reached(box: np.ndarray, n: int, p: np.ndarray, floor: float, margin: int) -> bool:
+    """Canonical grids: extend the box by ``margin`` rows or columns on each side where a pore
+    of its edge has ``|p| > floor`` (within the grid); return whether it changed."""
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
     top = bottom = left = right = False
     for j in range(j0, j1):
@@ -267,10 +273,11 @@ def spread(
     for i in range(i0, i1):
         left |= abs(p[i * n + j0]) > floor
         right |= abs(p[i * n + j1 - 1]) > floor
-    box[0] = max(i0 - 1, 0) if top else i0
-    box[1] = min(i1 + 1, n) if bottom else i1
-    box[2] = max(j0 - 1, 0) if left else j0
-    box[3] = min(j1 + 1, n) if right else j1
+    box[0] = max(i0 - margin, 0) if top else i0
+    box[1] = min(i1 + margin, n) if bottom else i1
+    box[2] = max(j0 - margin, 0) if left else j0
+    box[3] = min(j1 + margin, n) if right else j1
+    return box[0] != i0 or box[1] != i1 or box[2] != j0 or box[3] != j1
 
 
 @njit

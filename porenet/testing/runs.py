@@ -5,7 +5,9 @@
   properties of the same run share it (they must only read the results);
 * :func:`pattern_overlap` is the Jaccard overlap ``|A & B| / |A | B|`` of two drained sets,
   the measure docs/accuracy.md uses to compare patterns (its complement is the "pattern
-  error").
+  error");
+* :func:`assert_viscous_run_sane` checks what every viscous run must satisfy, whatever its
+  integrator.
 """
 
 from __future__ import annotations
@@ -39,3 +41,18 @@ def pattern_overlap(a: np.ndarray, b: np.ndarray) -> float:
     """Jaccard overlap ``|A & B| / |A | B|`` of two boolean masks (1 when both are empty)."""
     union = int(np.sum(a | b))
     return float(np.sum(a & b) / union) if union else 1.0
+
+
+def assert_viscous_run_sane(sim: Simulation, result: Any, max_steps: int | None = None) -> None:
+    """A viscous run kept its invariants: finite pressures (state and run data) and invading
+    pressure, no meniscus below length 0, a drained volume that is never negative and never
+    decreases, and (given ``max_steps``) a step count that did not run away."""
+    assert np.all(np.isfinite(sim.state.pressure))
+    assert np.all(np.isfinite(result.data.pressure))
+    assert np.isfinite(sim.state.invading_pressure)
+    assert np.all(sim.state.meniscus_length >= 0.0)
+    drained = sim.fluid.timeseries()["drained"]
+    assert sim.fluid.volumes()["drained"] >= 0 and np.all(drained >= 0)
+    assert np.all(np.diff(drained) >= 0)
+    if max_steps is not None:
+        assert 0 < result.summary["time_steps"] < max_steps

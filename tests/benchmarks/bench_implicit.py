@@ -1,7 +1,8 @@
-"""Benchmark: the implicit and explicit viscous integrators across Ca (not a test; no assertions).
+"""Benchmark: the viscous integrators (explicit, rkc, implicit) across Ca (not a test).
 
     python tests/benchmarks/bench_implicit.py                       # n = 100, Ca 1e-3 .. 1e-6
-    python tests/benchmarks/bench_implicit.py --n 50 --ca 1e-4 1e-6 --integrator implicit
+    python tests/benchmarks/bench_implicit.py --n 50 --ca 1e-4 1e-6 --integrator implicit rkc
+    python tests/benchmarks/bench_implicit.py --n 400 --ca 1e-5 --integrator rkc --max-drained 1500
     python tests/benchmarks/bench_implicit.py --profile --ca 1e-5 --integrator implicit
 
 Each run is the scene ``{"seed": 1, "lattice": {"n": n, "disorder": 0.3, "pore_size": 1e-7},
@@ -11,7 +12,9 @@ than ``--max-wall`` seconds is stopped and reported as such (the explicit integr
 ~4/(n Ca) steps per drained pore). Reported: wall time of ``run()`` (the numba cache is
 warmed first, on a 10 x 10 scene), time steps, drained pores, steps per drained pore, and
 for the implicit integrator the linear solves and factorisations per drained pore and the
-rejected steps. ``--profile`` prints where the implicit integrator spends its time.
+rejected steps, for RKC the stage sweeps per drained pore (with the explicit steps it takes
+near landings: "sweeps/pore"). ``--max-drained`` stops each run after that many drained pores
+(a sample of a long run). ``--profile`` prints where an integrator spends its time.
 """
 
 from __future__ import annotations
@@ -23,12 +26,18 @@ import time
 from typing import Any
 
 
-def scene(n: int, ca: float, integrator: str, seed: int = 1) -> dict[str, Any]:
+def scene(
+    n: int, ca: float, integrator: str, seed: int = 1, max_drained: int | None = None
+) -> dict[str, Any]:
+    stop: dict[str, Any] = {"at": "breakthrough"}
+    if max_drained:
+        stop["max_drained"] = max_drained
     return {
         "seed": seed,
         "lattice": {"n": n, "disorder": 0.3, "pore_size": 1e-7},
         "fluid": {"kind": "viscous", "capillary_number": ca, "integrator": integrator},
-        "stop": {"at": "breakthrough"},
+        "stop": stop,
+        "classifier": {"kind": "none"},
     }
 
 
@@ -64,6 +73,9 @@ def _run(sc: dict[str, Any], profile: bool, out: Any) -> None:
             "solves": s.get("linear_solves"),
             "factorizations": s.get("factorizations"),
             "rejected": s.get("rejected_steps"),
+            "sweeps": s.get("stage_sweeps", 0) + s.get("explicit_steps", 0)
+            if s.get("stage_sweeps") is not None
+            else None,
             "balance": s["volume_balance_error"],
         }
     )
@@ -91,9 +103,10 @@ def main() -> None:
     parser.add_argument(
         "--integrator",
         nargs="+",
-        default=["implicit", "explicit"],
-        choices=["implicit", "explicit"],
+        default=["implicit", "rkc", "explicit"],
+        choices=["implicit", "rkc", "explicit"],
     )
+    parser.add_argument("--max-drained", type=int, default=None)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--max-wall", type=float, default=300.0)
     parser.add_argument("--profile", action="store_true")
@@ -101,11 +114,12 @@ def main() -> None:
     print(f"n = {args.n}, seed {args.seed}, lambda = 0.3, to breakthrough")
     print(
         "integrator  Ca      wall(s)  steps    drained  steps/pore  solves/pore  fact/pore  "
-        "rejected  time"
+        "sweeps/pore  rejected  time"
     )
     for ca in args.ca:
         for integrator in args.integrator:
-            r = run(scene(args.n, ca, integrator, args.seed), args.max_wall, args.profile)
+            sc = scene(args.n, ca, integrator, args.seed, args.max_drained)
+            r = run(sc, args.max_wall, args.profile)
             if r is None:
                 print(f"{integrator:10s}  {ca:<6.0e}  > {args.max_wall:.0f} s (stopped)")
                 continue
@@ -113,10 +127,11 @@ def main() -> None:
             solves = f"{r['solves'] / d:11.1f}" if r["solves"] is not None else " " * 11
             fact = f"{r['factorizations'] / d:9.1f}" if r["factorizations"] is not None else " " * 9
             rej = f"{r['rejected']:8d}" if r["rejected"] is not None else " " * 8
+            sweeps = f"{r['sweeps'] / d:11.1f}" if r["sweeps"] is not None else " " * 11
             print(
                 f"{integrator:10s}  {ca:<6.0e}  {r['wall_s']:7.1f}  {r['steps']:7d}  "
-                f"{r['n_drained']:7d}  {r['steps'] / d:10.1f}  {solves}  {fact}  {rej}  "
-                f"{r['time']:.4g}",
+                f"{r['n_drained']:7d}  {r['steps'] / d:10.1f}  {solves}  {fact}  {sweeps}  "
+                f"{rej}  {r['time']:.4g}",
                 flush=True,
             )
 

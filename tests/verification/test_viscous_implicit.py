@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from porenet.simulation import Simulation
-from porenet.testing.runs import cached_run, pattern_overlap, simulate
+from porenet.testing.runs import assert_viscous_run_sane, cached_run, pattern_overlap, simulate
 
 GAMMA = 0.07  # N/m
 MU = 1e-3  # Pa s
@@ -208,12 +208,8 @@ def test_hard_cases_stay_finite_and_finish(case):
     sim, result = simulate(sc)
     s = result.summary
     assert s["stop_reason"] == reason
-    assert np.all(np.isfinite(sim.state.pressure)) and np.isfinite(sim.state.invading_pressure)
-    assert np.all(np.isfinite(result.data.pressure))
+    assert_viscous_run_sane(sim, result)
     assert s["volume_balance_error"] < 1e-12
-    assert np.all(sim.state.meniscus_length >= 0.0)
-    drained = sim.fluid.timeseries()["drained"]
-    assert np.all(np.diff(drained) >= 0)
     if sc["lattice"]["n"] == 3:
         assert s["n_drained"] == (2 if reason == "breakthrough" else 9)
 
@@ -259,11 +255,14 @@ def test_same_scene_same_run():
 
 
 def test_auto_choice_and_summary_name_the_integrator():
-    """'auto' picks the explicit integrator unless it would need more than 80 sqrt(N) steps
-    per drained pore: at n = 5, Ca = 1e-2 about 2.8 / (Q dt) = 86 (explicit); at n = 10,
-    Ca = 1e-6 about 4e5 against 800 (implicit)."""
-    result = Simulation.from_scene(scene(n=5, capillary_number=1e-2, integrator="auto")).run()
+    """'auto' picks from the explicit integrator's steps per drained pore E ~ 2.8 / (Q dt):
+    explicit up to 50, rkc beyond, implicit beyond 50 N. At n = 5, Ca = 1e-1, E ~ 9
+    (explicit); at n = 20, Ca = 1e-4, E ~ 2000 < 20 000 (rkc); at n = 10, Ca = 1e-6, E ~ 4e5
+    > 5000 (implicit)."""
+    result = Simulation.from_scene(scene(n=5, capillary_number=1e-1, integrator="auto")).run()
     assert result.summary["integrator"] == "explicit"
+    sim = Simulation.from_scene(scene(n=20, capillary_number=1e-4, integrator="auto"))
+    assert sim.run().summary["integrator"] == "rkc"
     sim = Simulation.from_scene(
         scene(n=10, capillary_number=1e-6, integrator="auto", max_time=1e-9)
     )

@@ -15,7 +15,7 @@ import pytest
 
 import porenet
 from porenet.simulation import Simulation
-from porenet.testing.runs import cached_run, pattern_overlap, simulate
+from porenet.testing.runs import assert_viscous_run_sane, cached_run, pattern_overlap, simulate
 
 GAMMA = 0.07  # N/m, the default interfacial tension
 MU = 1e-3  # Pa s, the default viscosity
@@ -35,17 +35,6 @@ def scene(n=30, seed=1, disorder=0.3, at="breakthrough", pore_size=A, **fluid):
         "fluid": {"kind": "viscous", "integrator": "explicit", **fluid},
         "stop": {"at": at},
     }
-
-
-def assert_sane(sim, result, max_steps):
-    """Finite pressures, a drained volume that never decreases, a run that did not run away."""
-    assert np.all(np.isfinite(sim.state.pressure))
-    assert np.all(np.isfinite(result.data.pressure))
-    assert np.isfinite(sim.state.invading_pressure)
-    drained = sim.fluid.timeseries()["drained"]
-    assert sim.fluid.volumes()["drained"] >= 0 and np.all(drained >= 0)
-    assert np.all(np.diff(drained) >= 0)
-    assert 0 < result.summary["time_steps"] < max_steps
 
 
 # -- 1. volume balances ------------------------------------------------------------------------
@@ -335,7 +324,7 @@ def test_hard_cases_stay_finite_and_finish(case):
     max_steps = sc["fluid"].setdefault("max_steps", 10**7)
     sim, result = simulate(sc)
     assert result.summary["stop_reason"] == reason
-    assert_sane(sim, result, max_steps)
+    assert_viscous_run_sane(sim, result, max_steps)
     # round-off accumulates with the step count: measured 3.0e-9 after the 1.3e7 steps of
     # Ca = 1e-7 (2e-16 per step: at constant dt the rounding of V/dt * dt/V repeats); a bound
     # of 1e-15 per step (1e-12 at least) still catches any lost flux
@@ -514,4 +503,4 @@ def test_latching_rate_control_reaches_breakthrough():
     sc = scene(n=30, seed=0, capillary_number=1e-1, meniscus="latching", max_steps=max_steps)
     sim, result = simulate(sc)
     assert result.summary["stop_reason"] == "breakthrough"
-    assert_sane(sim, result, max_steps)
+    assert_viscous_run_sane(sim, result, max_steps)

@@ -21,9 +21,20 @@ MENISCUS_LENGTH = 2.0
 _CHUNK = 256
 _STEP_CHUNK = 20_000
 
-#: ``integrator = "auto"`` picks the implicit integrator when the explicit one would need more
-#: than this times ``sqrt(N)`` steps per drained pore (docs/performance.md).
-AUTO_IMPLICIT_FACTOR = 80.0
+#: ``integrator = "auto"``: the stabilised (RKC) integrator once the explicit one would need
+#: more than this many steps per drained pore, the implicit one once it would need more than
+#: :data:`AUTO_IMPLICIT_PER_PORE` times the number of pores N (docs/performance.md).
+AUTO_RKC_STEPS = 50.0
+AUTO_IMPLICIT_PER_PORE = 50.0
+
+
+def auto_integrator(explicit_steps_per_drained: float, n_pores: int) -> str:
+    """What ``integrator = 'auto'`` picks under rate control, from the explicit integrator's
+    steps per drained pore (see :meth:`ViscousDrainage._choose_integrator`; the cost model of
+    :mod:`porenet.core.cost` applies the same rule)."""
+    if explicit_steps_per_drained > AUTO_IMPLICIT_PER_PORE * n_pores:
+        return "implicit"
+    return "rkc" if explicit_steps_per_drained > AUTO_RKC_STEPS else "explicit"
 
 
 class ViscousConfig(ModelConfig):
@@ -73,15 +84,17 @@ class ViscousConfig(ModelConfig):
         description="'threshold': a meniscus advances only while p_inv - p_i exceeds its entry "
         "pressure; 'latching': once started it advances while p_inv > p_i.",
     )
-    integrator: Literal["auto", "explicit", "implicit"] = Field(
+    integrator: Literal["auto", "explicit", "rkc", "implicit"] = Field(
         "auto",
         description="Time integrator: 'explicit' (forward Euler between pores, point-implicit "
-        "menisci and reservoir; steps grow like 1/Ca), 'implicit' (backward Euler over all "
-        "pores with sliding menisci and located start and landing events; its cost does not "
-        "grow like 1/Ca) or 'auto' (implicit where the explicit one would need more than "
-        "80 sqrt(N) steps per drained pore, N the number of pores: small Ca on small "
-        "lattices; docs/accuracy.md). Both land menisci exactly "
-        "on l = 0 and keep the injection reservoir stable.",
+        "menisci and reservoir; its steps per drained pore grow like 1/Ca), 'rkc' (stabilised "
+        "explicit IMEX Runge-Kutta-Chebyshev steps, the same point-implicit menisci in every "
+        "stage; its sweeps grow like 1/sqrt(Ca)), 'implicit' (backward Euler over all pores "
+        "with sliding menisci and located events; its cost does not grow with 1/Ca but each "
+        "step factorises the pore matrix) or 'auto': explicit while it needs at most 50 steps "
+        "per drained pore, rkc beyond, implicit beyond 50 N (N the number of pores: only on "
+        "small lattices at very small Ca); docs/accuracy.md, docs/performance.md. All land "
+        "menisci exactly on l = 0 and keep the injection reservoir stable.",
     )
     safety_factor: float = Field(
         1.0,
@@ -96,9 +109,10 @@ class ViscousConfig(ModelConfig):
         1e-2,
         gt=0,
         lt=1,
-        description="Implicit integrator only: local error allowed per step (the backward "
-        "Euler estimate 0.5 max |p' - p - dt dp/dt| over the pore pressures and p_inv), as "
-        "a fraction of the spread of entry pressures 2 gamma (1/r_min - 1/r_max) (-). "
+        description="Implicit and rkc integrators: local error allowed per step, as a fraction "
+        "of the spread of entry pressures 2 gamma (1/r_min - 1/r_max) (-), in the max norm "
+        "over the pore pressures and p_inv (implicit: the backward Euler estimate 0.5 |p' - "
+        "p - dt dp/dt|; rkc: the RKC estimate 0.8 (p - p') + 0.4 dt (dp/dt + dp'/dt)). "
         "Smaller is more accurate and slower.",
     )
     event_tolerance: float = Field(
@@ -220,22 +234,23 @@ class ViscousDrainage(FluidModel):
     def _choose_integrator(self) -> str:
         """Resolve ``integrator = 'auto'`` (the one place that decides).
 
-        Implicit when the explicit integrator would need more than ``80 sqrt(N)`` steps per
-        drained pore (N pores), estimated as ``2.8 V / (Q dt)`` (a drained pore takes ~2.8
-        mean pore volumes of injected fluid, counting what the defender stores); explicit
-        otherwise, and always under pressure or ramp control. Measured crossover at n = 50
-        (``python tests/benchmarks/bench_implicit.py --n 50 --ca 1e-4 1e-5 1e-6``): the
-        explicit integrator wins at 734 steps per drained pore (Ca = 1e-4), the implicit one
-        at 7 244 (Ca = 1e-5). The bound grows like sqrt(N) because an implicit step factorises
-        the pore matrix (~N^1.5 on a grid) where an explicit one sweeps it (~N)."""
+        From the explicit integrator's steps per drained pore, estimated as ``E = 2.8 V /
+        (Q dt)`` (a drained pore takes ~2.8 mean pore volumes of injected fluid, counting what
+        the defender stores): explicit while ``E <= 50``, RKC beyond, implicit beyond ``50 N``
+        (N pores); explicit always under pressure or ramp control. An RKC step of length h
+        costs ~sqrt(1.54 h rho) sweeps, so RKC pays once E is a few tens (measured crossover
+        near E = 40 at n = 100); the implicit integrator's cost per drained pore does not
+        depend on Ca but each of its ~20 factorisations per pore costs ~N^1.5 on a grid,
+        against RKC's ~N sqrt(E) sweeps, so it wins only where E exceeds a multiple of N
+        (measured: at n = 50 and Ca = 1e-6, E ~ 7e4 = 29 N, RKC is still 1.3x faster).
+        ``python tests/benchmarks/bench_implicit.py`` measures all three (docs/performance.md)."""
         choice = self.config.integrator
         if choice != "auto":
             return choice
         if self.config.control != "rate" or self._q <= 0:
             return "explicit"
         explicit_steps = 2.8 * float(np.mean(self._vol)) / (self._q * self._dt)
-        limit = AUTO_IMPLICIT_FACTOR * math.sqrt(self.lattice.n_pores)
-        return "implicit" if explicit_steps > limit else "explicit"
+        return auto_integrator(explicit_steps, self.lattice.n_pores)
 
     def _conductances(self, state: State) -> None:
         """Throat, pore and outlet properties from the apertures, the stable step and the
@@ -320,6 +335,15 @@ class ViscousDrainage(FluidModel):
         self._cnt = np.zeros(vk.N_CNT, dtype=np.int64)
         self._order, self._via = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
         self._series = np.zeros((n, len(vk.SERIES)))
+        if self.integrator == "rkc":
+            from porenet.kernels import rkc
+            from porenet.kernels.chebyshev import spectral_radius
+
+            self._ybuf = np.zeros((3, n))
+            self._f0, self._fnew, self._zero = np.zeros(n), np.zeros(n), np.zeros(n)
+            self._ctrl = np.zeros(rkc.N_CTRL)
+            #: Spectral radius of the pore-to-pore operator (scaled), which sets the stages.
+            self.spectral_radius = spectral_radius(self._tp, self._g_eff, self._g_out, self._vol)
         if self.integrator == "implicit":
             from porenet.kernels import implicit as ik
 
@@ -377,6 +401,8 @@ class ViscousDrainage(FluidModel):
         status = 0
         if budget > 0 and self.integrator == "implicit":
             status = self._implicit_advance(state, budget, t_end)
+        elif budget > 0 and self.integrator == "rkc":
+            status = self._rkc_advance(state, budget, t_end)
         elif budget > 0:
             status = vk.explicit_advance(
                 *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
@@ -436,6 +462,24 @@ class ViscousDrainage(FluidModel):
             stop.at == "breakthrough", self._step_chunk(),
         )  # fmt: skip
 
+    def _rkc_advance(self, state: State, budget: int, t_end: float) -> int:
+        from porenet.kernels import rkc
+
+        cfg, stop = self.config, self.context.stop
+        return rkc.rkc_advance(
+            *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
+            self._g_out, self._outlet, self._grid_n, self._box, self._p, state.drained,
+            self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
+            self._flux, self._p_next, self._on_t, self._on_p, self._landing,
+            self._acc, self._cnt, self._order, self._via, self._series,
+            self._ybuf, self._f0, self._fnew, self._zero, self._ctrl, self.spectral_radius,
+            self.dt_stable, self._dt, self._control, self._q, self._capacity,
+            self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
+            cfg.pressure_floor, self._pressure_step, self._pressure_scale, cfg.tolerance,
+            MENISCUS_LENGTH, budget, t_end, cfg.max_steps, stop.at == "breakthrough",
+            self._step_chunk(),
+        )  # fmt: skip
+
     def _step_chunk(self) -> int:
         """Most time steps per kernel call: the coupler's limit (:attr:`step_limit`) if any."""
         return _STEP_CHUNK if self.step_limit is None else min(_STEP_CHUNK, self.step_limit)
@@ -461,6 +505,10 @@ class ViscousDrainage(FluidModel):
         if limit < self.dt_stable:
             self.dt_stable = limit
             self._dt = self.config.safety_factor * self.dt_stable
+        if limit < math.inf and self.integrator == "rkc":
+            # a throat conducts more: the Lanczos value may no longer bound the spectrum,
+            # Gershgorin's (2 / dt_stable, dt_stable a lower bound of every pore's) does
+            self.spectral_radius = max(self.spectral_radius, 2.0 / self.dt_stable)
 
     def _sync(self, state: State) -> None:
         """Copy the kernel's counters into the State and extend the record."""
@@ -594,4 +642,13 @@ class ViscousDrainage(FluidModel):
             out["linear_solves"] = int(ctrl[ik.CTRL["solves"]])
             out["factorizations"] = int(ctrl[ik.CTRL["factorizations"]])
             out["rejected_steps"] = int(ctrl[ik.CTRL["rejected"]])
+        if self.integrator == "rkc":
+            from porenet.kernels import rkc
+
+            ctrl = self._ctrl
+            out["time_step_s"] = state.time / max(steps, 1) * (sc.time or 0.0)
+            out["stage_sweeps"] = int(ctrl[rkc.CTRL["stages"]])
+            out["rkc_steps"] = int(ctrl[rkc.CTRL["rkc_steps"]])
+            out["rejected_steps"] = int(ctrl[rkc.CTRL["rejected"]])
+            out["explicit_steps"] = int(ctrl[rkc.CTRL["explicit_steps"]])
         return out

@@ -1,0 +1,557 @@
+"""Stabilised explicit time integration of the viscous model: IMEX Runge-Kutta-Chebyshev.
+
+Scaled units and equations as in :mod:`porenet.kernels.viscous`. The explicit integrator's
+step is bounded by stability, ``dt <= min_i V_i / sum_j g_ij``, so at small Ca it takes
+~4/(n Ca) steps per drained pore although the pressures change slowly. A Runge-Kutta-Chebyshev
+(RKC) step of length ``h`` sweeps the pores ``m ~ sqrt(1.54 h rho)`` times (``rho`` the
+spectral radius of the pore-to-pore operator, :func:`porenet.kernels.chebyshev.spectral_radius`)
+and is stable for the diffusion however long ``h`` is: its cost per unit of model time falls
+like ``1 / sqrt(h)``, and ``h`` is set by accuracy and by the events, not by stability.
+
+The scheme is the implicit-explicit RKC method of Verwer & Sommeijer (SIAM J. Sci. Comput. 25,
+1824, 2004) as the IRKC code of Shampine, Sommeijer & Verwer (J. Comput. Appl. Math. 196, 485,
+2006) implements it: second order in the explicit part, damping ``eps = 2/13``, and
+unconditionally stable in the implicit part. Here
+
+* the explicit part ``F_E`` is the Darcy flux between undrained pores and to the outlet (one
+  stencil sweep per stage, :func:`porenet.kernels.chebyshev.sweep`);
+* the implicit part ``F_I`` is the menisci, the pores they enter and the injection reservoir:
+  exactly the point-implicit problem of the explicit integrator's step
+  (:mod:`porenet.kernels.menisci`: the sliding closure of the threshold law and the pump),
+  solved in every stage over the stage step ``h mu~_1`` (~``3 h / m^2``);
+
+with stages (``W_0 = y_n``)::
+
+    W_1 = W_0 + mu~_1 h F_E(W_0) + mu~_1 h F_I(W_1)
+    W_j = (1 - mu_j - nu_j) W_0 + mu_j W_{j-1} + nu_j W_{j-2} + mu~_j h F_E(W_{j-1})
+          + g~_j h F_E(W_0) + [g~_j - (1 - mu_j - nu_j) mu~_1] h F_I(W_0)
+          - nu_j mu~_1 h F_I(W_{j-2}) + mu~_1 h F_I(W_j),          j = 2 .. m
+
+and ``y_{n+1} = W_m``. The meniscus lengths and the volume totals (drained, outflow) are
+components of ``y`` like the pressures and follow the same recursion, so every balance closes
+to round-off. Meniscus conductances ``A k / l`` are frozen at the start of a step; ``F_I(y_n)``
+is the menisci's flux over one explicit-length step from ``y_n`` (a sliding meniscus has no
+flux at a state, only along a trajectory).
+
+Events. No pore drains inside an RKC step: a step ends at :data:`LAND` of the predicted time of
+the next landing (from the meniscus fluxes at its start) and is rejected if a meniscus would
+pass ``l = 0`` all the same. Once the next landing is nearer than :data:`EXPLICIT_SPAN`
+explicit steps, or accuracy asks for so short a step, the explicit integrator
+(:func:`porenet.kernels.viscous.explicit_advance`) takes over until the landing, which it
+locates exactly (``l = 0``, no overshoot), then RKC resumes. A meniscus that starts within a
+step is a candidate of the step (its threshold is within reach of the invading pressure) and
+switches on inside the stages; a step at whose end a meniscus that was not a candidate is past
+its threshold is rejected and halved. Rule "latching": a meniscus not yet latched obeys the
+threshold law within the step that latches it (the two laws differ only if it falls back
+below its entry pressure in that same step).
+
+Step control: the RKC local error estimate ``0.8 (y_n - y_{n+1}) + 0.4 h (F(y_n) +
+F(y_{n+1}))`` (Sommeijer, Shampine & Verwer, J. Comput. Appl. Math. 88, 315, 1997) in the max
+norm over the pore pressures and ``p_inv``, against ``tolerance`` times the entry-pressure
+spread; the next step from the RKC code's predictive controller (the error's growth over the
+last two steps), at most :data:`GROW` times longer. The stage count is ``m = 1 + floor(sqrt(1 +
+1.54 h rho))``, at least 3 (stable for the IMEX pair: ``tests/unit/kernels/test_rkc.py``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from porenet.kernels._jit import njit
+from porenet.kernels.chebyshev import MAX_STAGES, coefficients, longest_step, stage_count, sweep
+from porenet.kernels.diffusion import grow_where_reached, spread
+from porenet.kernels.menisci import (
+    CONTROL_PRESSURE,
+    CONTROL_RAMP,
+    CONTROL_RATE,
+    invader_pressure,
+    meniscus_fluxes,
+    pore_after,
+)
+from porenet.kernels.viscous import STATUS, _list_meniscus, _other, explicit_advance
+
+#: Slots of the ``ctrl`` array (the integrator's memory between calls, and its counters).
+CTRL = {
+    "h": 0,  # the next RKC step (0 before the first)
+    "stages": 1,  # stage sweeps of accepted and rejected RKC steps
+    "rkc_steps": 2,  # accepted RKC steps
+    "rejected": 3,  # rejected RKC steps
+    "explicit_steps": 4,  # steps taken by the explicit integrator (near landings)
+    "largest_stage_count": 5,
+    "last_error": 6,  # error of the last accepted step (0: none since the last restart)
+    "last_step": 7,  # its length
+}
+N_CTRL = 8
+
+#: An RKC step shorter than this many explicit steps is not worth its stages: the explicit
+#: integrator takes over (four times as long when a landing is predicted within it).
+EXPLICIT_SPAN = 8.0
+#: An RKC step ends at this fraction of the predicted time of the next landing.
+LAND = 0.95
+#: Largest growth of the step from one accepted step to the next.
+GROW = 10.0
+
+
+@njit(helper=True)
+def _implicit_rate(i: int, q: np.ndarray, head: np.ndarray, nxt: np.ndarray) -> float:
+    """Volumetric meniscus flux into pore ``i`` (its listed menisci, fluxes ``q``)."""
+    total = 0.0
+    s = head[i]
+    while s >= 0:
+        total += q[s]
+        s = nxt[s]
+    return total
+
+
+@njit(helper=True)
+def _pump_rate(control: int, q_rate: float, capacity: float, ramp: float, qsum: float) -> float:
+    """``dp_inv/dt`` given the total meniscus flux."""
+    if control == CONTROL_RATE:
+        return (q_rate - qsum) / capacity
+    if control == CONTROL_RAMP:
+        return ramp
+    return 0.0
+
+
+@njit
+def _stage_solve(
+    dt_i: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray, y: np.ndarray
+) -> float:
+    """The implicit part of a stage: ``y`` holds the stage's right-hand side at the menisci's
+    pores (``flux`` of ``menisci`` is zero); solve over ``dt_i``, write the pores' stage values
+    into ``y`` and the meniscus fluxes into ``q_out``; return the stage's ``p_inv``."""
+    on_p, head = menisci[1], menisci[3]
+    pnew = meniscus_fluxes(dt_i, n_on, menisci, pump, q_out)
+    for s in range(n_on):
+        i = on_p[s]
+        if head[i] == s:
+            y[i] = pore_after(i, pnew, dt_i, menisci)
+    return pnew
+
+
+@njit
+def _list_candidates(
+    h: float,
+    menisci0: tuple,
+    pump0: tuple,
+    front: np.ndarray,
+    nf: int,
+    tp: np.ndarray,
+    drained: np.ndarray,
+    pe: np.ndarray,
+    latched: np.ndarray,
+    latching: bool,
+    inv_vol: np.ndarray,
+    cand: np.ndarray,
+    near: np.ndarray,
+) -> int:
+    """The candidate menisci of a step of ``h`` from the state of ``menisci0`` (its ``p``,
+    and ``F_E`` as its ``flux``), as :func:`porenet.kernels.viscous.explicit_advance` lists
+    them: at or above their threshold (latched ones with threshold 0), then those the invading
+    pressure can bring to it within the step, allowing for the pore's own explicit change.
+    Marks them in ``cand``; returns their number."""
+    on_t, on_p, c_on, head, nxt, p, f0 = menisci0[:7]
+    control, pinv, q_rate, capacity, ramp = pump0
+    reach = h * max(q_rate / capacity if control == CONTROL_RATE else 0.0, ramp)
+    n_on = 0
+    n_near = 0
+    for s in range(nf):
+        f = front[s]
+        i = _other(tp, drained, f)
+        d = pinv - p[i]
+        if latching and d > pe[f]:
+            latched[f] = True
+        if latching and latched[f]:
+            n_on = _list_meniscus(f, i, 0.0, n_on, on_t, on_p, c_on, head, nxt)
+            cand[f] = True
+        elif d > pe[f] * (1.0 - 1e-9):
+            n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
+            cand[f] = True
+        elif d > pe[f] - reach - h * abs(f0[i]) * inv_vol[i]:
+            near[n_near] = f
+            n_near += 1
+    if n_near > 0:
+        rise = max(invader_pressure(h, n_on, menisci0, pump0) - pinv, 0.0)
+        for r in range(n_near):
+            f = near[r]
+            i = _other(tp, drained, f)
+            if pinv - p[i] > pe[f] - rise - h * abs(f0[i]) * inv_vol[i]:
+                n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
+                cand[f] = True
+    return n_on
+
+
+@njit(helper=True)
+def _unlist(
+    n_on: int, on_t: np.ndarray, on_p: np.ndarray, head: np.ndarray, cand: np.ndarray
+) -> None:
+    """Clear the per-pore links and marks of the step's candidates."""
+    for s in range(n_on):
+        head[on_p[s]] = -1
+        cand[on_t[s]] = False
+
+
+@njit
+def _stages(
+    h: float,
+    m: int,
+    field: tuple,
+    p: np.ndarray,
+    f0: np.ndarray,
+    ybuf: np.ndarray,
+    zero: np.ndarray,
+    n_on: int,
+    menisci0: tuple,
+    pump0: tuple,
+    q0: np.ndarray,
+    qst: np.ndarray,
+    lst: np.ndarray,
+    pst: np.ndarray,
+    ast: np.ndarray,
+    r_ell: np.ndarray,
+    moved: np.ndarray,
+) -> int:
+    """The ``m`` stages of an RKC step of ``h`` from ``y_n`` (``p``, ``F_E(y_n) = f0``, the
+    menisci's fluxes ``q0``, ``p_inv``, lengths ``ell``). Stage ``j`` goes to buffer
+    ``(j - 1) % 3`` of ``ybuf`` (pores), ``pst`` (p_inv), ``qst`` / ``lst`` (each candidate's
+    flux and length), ``ast`` (drained and outflow volume since ``y_n``). Returns the buffer
+    of ``y_{n+1}``; ``moved[s]`` tells whether candidate ``s`` flowed in any stage."""
+    on_t, on_p, c_on, head, nxt, _p, _f, vol, g_num, ell, area = menisci0
+    control, pinv, q_rate, capacity, ramp = pump0
+    inv_vol = field[10]
+    mus1, coef = coefficients(m)
+    dt_i = h * mus1
+    qsum0 = 0.0
+    for s in range(n_on):
+        qsum0 += q0[s]
+    fiinv0 = _pump_rate(control, q_rate, capacity, ramp, qsum0)
+    # stage 1: W_1 = y_n + dt_i F_E(y_n) + dt_i F_I(W_1)
+    y1 = ybuf[0]
+    out0 = sweep(field, p, p, p, f0, (0.0, 1.0, 0.0, 0.0, dt_i), y1, False)
+    menisci = (on_t, on_p, c_on, head, nxt, y1, zero, vol, g_num, ell, area)
+    pst[0] = _stage_solve(dt_i, n_on, menisci, pump0, qst[0], y1)
+    qs = 0.0
+    for s in range(n_on):
+        lst[0, s] = ell[on_t[s]] - dt_i * qst[0, s] / area[on_t[s]]
+        moved[s] = q0[s] > 0.0 or qst[0, s] > 0.0
+        qs += qst[0, s]
+    ast[0, 0] = dt_i * qs
+    ast[0, 1] = dt_i * out0
+    k = 0
+    for j in range(2, m + 1):
+        mu, nu, mus, gam = coef[j - 2, 0], coef[j - 2, 1], coef[j - 2, 2], coef[j - 2, 3]
+        c0 = 1.0 - mu - nu
+        prev, k, prev2 = (j - 2) % 3, (j - 1) % 3, (j - 3) % 3
+        yout = ybuf[k]
+        out_prev = sweep(field, ybuf[prev], p, p if j == 2 else ybuf[prev2], f0,
+                         (c0, mu, nu, h * mus, h * gam), yout, False)  # fmt: skip
+        w0i = h * (gam - c0 * mus1)  # weight of F_I(y_n)
+        w2i = -h * nu * mus1  # weight of F_I(W_{j-2})
+        q2 = q0 if j == 2 else qst[prev2]
+        qsum2 = 0.0
+        for s in range(n_on):
+            qsum2 += q2[s]
+        # right-hand sides of the implicit part: pores, reservoir, meniscus lengths
+        for s in range(n_on):
+            i = on_p[s]
+            if head[i] == s:
+                yout[i] += (w0i * _implicit_rate(i, q0, head, nxt)
+                            + w2i * _implicit_rate(i, q2, head, nxt)) * inv_vol[i]  # fmt: skip
+        for s in range(n_on):
+            f = on_t[s]
+            l2 = ell[f] if j == 2 else lst[prev2, s]
+            swept = (w0i * q0[s] + w2i * q2[s]) / area[f]
+            r_ell[s] = c0 * ell[f] + mu * lst[prev, s] + nu * l2 - swept
+        r_inv = pinv
+        if control != CONTROL_PRESSURE:
+            pinv2 = pinv if j == 2 else pst[prev2]
+            r_inv = c0 * pinv + mu * pst[prev] + nu * pinv2 + w0i * fiinv0
+            r_inv += w2i * _pump_rate(control, q_rate, capacity, ramp, qsum2)
+        menisci = (on_t, on_p, c_on, head, nxt, yout, zero, vol, g_num, ell, area)
+        pst[k] = _stage_solve(dt_i, n_on, menisci, (control, r_inv, q_rate, capacity, ramp),
+                              qst[k], yout)  # fmt: skip
+        qs = 0.0
+        for s in range(n_on):
+            lst[k, s] = r_ell[s] - dt_i * qst[k, s] / area[on_t[s]]
+            moved[s] |= qst[k, s] > 0.0
+            qs += qst[k, s]
+        d2 = 0.0 if j == 2 else ast[prev2, 0]
+        o2 = 0.0 if j == 2 else ast[prev2, 1]
+        ast[k, 0] = mu * ast[prev, 0] + nu * d2 + w0i * qsum0 + w2i * qsum2 + dt_i * qs
+        ast[k, 1] = mu * ast[prev, 1] + nu * o2 + h * mus * out_prev + h * gam * out0
+    return k
+
+
+@njit
+def _step_error(
+    h: float,
+    field: tuple,
+    p: np.ndarray,
+    ys: np.ndarray,
+    f0: np.ndarray,
+    fnew: np.ndarray,
+    fi: np.ndarray,
+    vol: np.ndarray,
+) -> tuple[float, float, float]:
+    """Over the active pores: ``max |0.8 (y_n - y_n+1) + 0.4 h (F(y_n) + F(y_n+1)) / V|``
+    (``F`` is ``f0`` / ``fnew`` plus ``fi`` at the menisci's pores), the stored volume change
+    ``sum V (y_n+1 - y_n)`` and ``max |y_n+1 - y_n|``."""
+    grid_n, box, na, act = field[0], field[1], field[2], field[3]
+    inv_vol = field[10]
+    err = 0.0
+    stored = 0.0
+    largest = 0.0
+    count = (box[1] - box[0]) if grid_n > 0 else na
+    for r in range(count):
+        if grid_n > 0:
+            lo = (box[0] + r) * grid_n + box[2]
+            hi = lo + box[3] - box[2]
+        else:
+            lo = act[r]
+            hi = lo + 1
+        for k in range(lo, hi):
+            change = ys[k] - p[k]
+            e = abs(-0.8 * change + 0.4 * h * (f0[k] + fnew[k] + fi[k]) * inv_vol[k])
+            err = max(err, e)
+            stored += vol[k] * change
+            largest = max(largest, abs(change))
+    return err, stored, largest
+
+
+@njit
+def _copy_active(field: tuple, src: np.ndarray, dst: np.ndarray) -> None:
+    """``dst = src`` over the active pores."""
+    grid_n, box, na, act = field[0], field[1], field[2], field[3]
+    if grid_n > 0:
+        for i in range(box[0], box[1]):
+            a, b = i * grid_n + box[2], i * grid_n + box[3]
+            dst[a:b] = src[a:b]
+    else:
+        for s in range(na):
+            dst[act[s]] = src[act[s]]
+
+
+@njit
+def rkc_advance(
+    indptr: np.ndarray,
+    nbr: np.ndarray,
+    thr: np.ndarray,
+    tp: np.ndarray,
+    g_eff: np.ndarray,
+    g_num: np.ndarray,
+    area: np.ndarray,
+    pe: np.ndarray,
+    vol: np.ndarray,
+    g_out: np.ndarray,
+    outlet: np.ndarray,
+    grid_n: int,
+    box: np.ndarray,
+    p: np.ndarray,
+    drained: np.ndarray,
+    ell: np.ndarray,
+    latched: np.ndarray,
+    front: np.ndarray,
+    fpos: np.ndarray,
+    act: np.ndarray,
+    apos: np.ndarray,
+    flux: np.ndarray,
+    p_next: np.ndarray,
+    on_t: np.ndarray,
+    on_p: np.ndarray,
+    landing: np.ndarray,
+    acc: np.ndarray,
+    cnt: np.ndarray,
+    order: np.ndarray,
+    via: np.ndarray,
+    series: np.ndarray,
+    ybuf: np.ndarray,
+    f0: np.ndarray,
+    fnew: np.ndarray,
+    zero: np.ndarray,
+    ctrl: np.ndarray,
+    rho: float,
+    dt_stable: float,
+    dt_max: float,
+    control: int,
+    q_rate: float,
+    capacity: float,
+    capacity_per_drained: float,
+    ramp_rate: float,
+    latching: bool,
+    floor: float,
+    pressure_step: float,
+    pressure_scale: float,
+    tolerance: float,
+    ell0: float,
+    max_events: int,
+    t_end: float,
+    max_steps: int,
+    stop_at_breakthrough: bool,
+    step_budget: int,
+) -> int:
+    """Integrate with IMEX RKC steps until ``max_events`` pores drain or another stop.
+
+    Arguments as :func:`porenet.kernels.viscous.explicit_advance` (which it calls near
+    landings, with ``dt_max`` its step), plus: ``ybuf`` (3, N) stage buffers, ``f0`` and
+    ``fnew`` (N) ``F_E`` at the start and end of a step, ``zero`` (N) zeros, ``ctrl``
+    (:data:`CTRL`), ``rho`` the spectral radius of the pore-to-pore operator, ``dt_stable``
+    the explicit stability limit, ``pressure_scale`` the entry-pressure spread and
+    ``tolerance`` the local error allowed per step as a fraction of it. Returns a
+    :data:`porenet.kernels.viscous.STATUS` code.
+    """
+    n_pores, n_thr = len(p), len(pe)
+    events_at_entry, steps_at_entry = cnt[0], cnt[1]
+    inv_vol = 1.0 / vol
+    c_on = np.empty(n_thr)
+    nxt = np.empty(n_thr, dtype=np.int64)
+    head = np.full(n_pores, -1, dtype=np.int64)
+    cand = np.zeros(n_thr, dtype=np.bool_)
+    near = np.empty(n_thr, dtype=np.int64)
+    q0 = np.zeros(n_thr)
+    qst, lst = np.zeros((3, n_thr)), np.zeros((3, n_thr))
+    pst, ast = np.zeros(3), np.zeros((3, 2))
+    r_ell = np.zeros(n_thr)
+    moved = np.zeros(n_thr, dtype=np.bool_)
+    fi = np.zeros(n_pores)  # V (F_I(y_n) + F_I(y_n+1)) at the menisci's pores, for the error
+    need_f0 = True
+    h_next = ctrl[0] if ctrl[0] > 0 else EXPLICIT_SPAN * dt_stable
+    while True:
+        ctrl[0] = h_next
+        if cnt[0] - events_at_entry >= max_events or cnt[1] - steps_at_entry >= step_budget:
+            return 0
+        t, pinv = acc[0], acc[1]
+        if t >= t_end:
+            return 2
+        if cnt[1] >= max_steps:
+            return 3
+        nf = cnt[2]
+        if nf == 0:
+            return 5
+        capacity_now = capacity + capacity_per_drained * acc[7]
+        h = min(h_next, t_end - t, longest_step(MAX_STAGES, rho))
+        # a step spreads the pressure by one pore per stage: grow the box by as much
+        if grid_n > 0 and grow_where_reached(box, grid_n, p, floor, stage_count(h, rho) + 1):
+            need_f0 = True
+        field = (grid_n, box, cnt[3], act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, fnew)
+        if need_f0:
+            sweep(field, p, p, p, f0, (0.0, 0.0, 0.0, 0.0, 0.0), f0, True)
+            need_f0 = False
+        menisci0 = (on_t, on_p, c_on, head, nxt, p, f0, vol, g_num, ell, area)
+        pump0 = (control, pinv, q_rate, capacity_now, ramp_rate)
+        n_on = _list_candidates(h, menisci0, pump0, front, nf, tp, drained, pe, latched,
+                                latching, inv_vol, cand, near)  # fmt: skip
+        # F_I(y_n): the menisci's fluxes over an explicit-length step; the next landing
+        meniscus_fluxes(dt_stable, n_on, menisci0, pump0, q0)
+        t_land = np.inf
+        for s in range(n_on):
+            if q0[s] > 0.0:
+                t_land = min(t_land, ell[on_t[s]] * area[on_t[s]] / q0[s])
+        h = min(h, LAND * t_land)
+        if h < EXPLICIT_SPAN * dt_stable:
+            # Near a landing, or a fast transient: explicit steps until the event or the span.
+            _unlist(n_on, on_t, on_p, head, cand)
+            span = EXPLICIT_SPAN * (4.0 if t_land < EXPLICIT_SPAN * dt_stable else 1.0)
+            left = step_budget - (cnt[1] - steps_at_entry)
+            before = cnt[1]
+            status = explicit_advance(
+                indptr, nbr, thr, tp, g_eff, g_num, area, pe, vol, g_out, outlet, grid_n, box,
+                p, drained, ell, latched, front, fpos, act, apos, flux, p_next, on_t, on_p,
+                landing, acc, cnt, order, via, series, dt_max, control, q_rate, capacity,
+                capacity_per_drained, ramp_rate, latching, floor, pressure_step, ell0,
+                1, t_end, max_steps, stop_at_breakthrough,
+                max(min(int(span * dt_stable / dt_max) + 2, left), 1),
+            )  # fmt: skip
+            ctrl[4] += cnt[1] - before
+            ctrl[6] = 0.0  # the controller restarts
+            need_f0 = True
+            h_next = EXPLICIT_SPAN * dt_stable
+            if status != 0:
+                ctrl[0] = h_next
+                return status
+            continue
+        m = stage_count(h, rho)
+        h = min(h, longest_step(m, rho))
+        k = _stages(h, m, field, p, f0, ybuf, zero, n_on, menisci0, pump0, q0, qst, lst, pst,
+                    ast, r_ell, moved)  # fmt: skip
+        ys, ps, qs = ybuf[k], pst[k], qst[k]
+        ctrl[1] += m
+        ctrl[5] = max(ctrl[5], m)
+        # rejected outright: a meniscus past l = 0, or one past its threshold unlisted
+        reject = 0.0
+        for s in range(n_on):
+            if lst[k, s] < 0.0:
+                reject = 0.5
+            elif moved[s] and lst[k, s] > ell[on_t[s]]:
+                # the stages' weights of a meniscus that switched on or off inside the step
+                # summed to a negative swept volume: the switch is not resolved
+                reject = 0.5
+        for s in range(nf if reject == 0.0 else 0):
+            f = front[s]
+            if not cand[f] and ps - ys[_other(tp, drained, f)] > pe[f]:
+                reject = 0.5
+                break
+        # the error estimate
+        qsum0 = qsums = 0.0
+        for s in range(n_on):
+            qsum0 += q0[s]
+            qsums += qs[s]
+            i = on_p[s]
+            if head[i] == s:
+                fi[i] = _implicit_rate(i, q0, head, nxt) + _implicit_rate(i, qs, head, nxt)
+        sweep(field, ys, p, p, f0, (0.0, 0.0, 0.0, 0.0, 0.0), fnew, True)
+        err, stored, largest = _step_error(h, field, p, ys, f0, fnew, fi, vol)
+        for s in range(n_on):
+            fi[on_p[s]] = 0.0
+        fiinv = _pump_rate(control, q_rate, capacity_now, ramp_rate, qsum0)
+        fiinv += _pump_rate(control, q_rate, capacity_now, ramp_rate, qsums)
+        err = max(err, abs(0.8 * (pinv - ps) + 0.4 * h * fiinv)) / (tolerance * pressure_scale)
+        if not (np.isfinite(err) and np.isfinite(ps) and np.isfinite(stored)):
+            _unlist(n_on, on_t, on_p, head, cand)
+            cnt[4] = -1
+            return 4
+        if reject == 0.0 and err > 1.0:
+            reject = max(0.2, 0.8 * err ** (-1.0 / 3.0))
+        if reject > 0.0:
+            ctrl[3] += 1
+            h_next = h * reject
+            _unlist(n_on, on_t, on_p, head, cand)
+            continue
+        # accept
+        _copy_active(field, ys, p)
+        _copy_active(field, fnew, f0)
+        for s in range(n_on):
+            if moved[s]:
+                ell[on_t[s]] = lst[k, s]
+        _unlist(n_on, on_t, on_p, head, cand)
+        acc[3] += ast[k, 0]
+        acc[4] += stored
+        acc[5] += ast[k, 1]
+        acc[2] += q_rate * h if control == CONTROL_RATE else ast[k, 0] + capacity_now * (ps - pinv)
+        acc[8] += capacity_now * (ps - pinv)
+        acc[1] = ps
+        acc[0] = t + h
+        cnt[1] += 1
+        ctrl[2] += 1
+        if grid_n == 0:
+            for _r in range(m):
+                spread(grid_n, box, cnt[3], act, apos, cnt, indptr, nbr, drained, p, floor)
+            need_f0 = True
+        if control == CONTROL_PRESSURE:
+            rate = largest / h
+            for s in range(n_on):
+                rate = max(rate, qs[s] * inv_vol[on_p[s]])
+            if rate * dt_max <= floor:
+                ctrl[0] = h
+                return 6
+        # the RKC code's predictive controller (Gustafsson): how the error grew with the step
+        # over the last two steps, not the asymptotic h^3 law, sets the next step
+        e = max(err, 1e-10)
+        if ctrl[6] > 0.0 and ctrl[7] > 0.0:
+            fac = 0.8 * (h / ctrl[7]) * ctrl[6] ** (1.0 / 3.0) / e ** (2.0 / 3.0)
+        else:
+            fac = 0.8 * e ** (-1.0 / 3.0)
+        ctrl[6], ctrl[7] = e, h
+        h_next = h * max(0.1, min(GROW, fac))
+
+
+__all__ = ["CTRL", "N_CTRL", "STATUS", "rkc_advance"]
