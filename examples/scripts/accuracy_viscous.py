@@ -104,6 +104,13 @@ def main() -> None:
         "--integrators", nargs="+", default=["explicit"], choices=sorted(KNOBS), help="swept"
     )
     parser.add_argument(
+        "--defaults-only",
+        nargs="*",
+        default=[],
+        choices=sorted(KNOBS),
+        help="integrators run at their default settings only (for comparison)",
+    )
+    parser.add_argument(
         "--reference", default="explicit", choices=sorted(KNOBS), help="integrator of the reference"
     )
     parser.add_argument("--out", type=Path, help="figure (PNG)")
@@ -128,6 +135,8 @@ def main() -> None:
             default = ViscousConfig.model_fields[knob].default
             if args.quick:
                 values = [v for v in values if v in (values[0], default, values[-1])]
+            if integrator in args.defaults_only:
+                values = [default] if knob == next(iter(KNOBS[integrator])) else []
             for value in values:
                 settings = {knob: value}  # the other knobs at their defaults
                 sc = scene(args.n, args.ca, integrator, **settings, snapshot_times=[t_snap])
@@ -180,6 +189,7 @@ def main() -> None:
             for integrator in args.integrators
             for knob in KNOBS[integrator]
         ]
+        groups = [g for g in groups if g[1]]  # (a defaults-only integrator has one point)
         fig = error_vs_wall(
             groups,
             ("pattern", "breakthrough_time", "pressure"),

@@ -72,6 +72,11 @@ def coefficients(m: int) -> tuple[float, np.ndarray]:
 
 
 # -- sweeps over the active pores ---------------------------------------------------------------
+#
+# The stages are written for increments ``d_j = W_j - y_n``: ``F_E`` is linear and homogeneous
+# (``F_E(y) = L y``, the outlet at p = 0), so ``F_E(W_j) = F_E(y_n) + L d_j`` and a stage reads
+# ``d_{j-1}``, ``d_{j-2}`` and ``F_E(y_n)`` but not ``y_n``: one memory stream fewer than the
+# full form, and the increments carry no cancellation error.
 
 
 @njit(helper=True)
@@ -87,12 +92,11 @@ def _row_stage(
     gd: np.ndarray,
     up: bool,
     down: bool,
+    outlet: bool,
     g_out: np.ndarray,
     inv_vol: np.ndarray,
-    y0: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
-    c0: float,
     c1: float,
     c2: float,
     ce: float,
@@ -100,18 +104,21 @@ def _row_stage(
     out: np.ndarray,
 ) -> None:
     """One stage for a run of a row with both horizontal neighbours in the box (aligned views
-    as in :func:`porenet.kernels.diffusion._row_interior`): ``out = c0 y0 + c1 y1 + c2 y2 +
-    (ce F_E(y1) + cf f0) / V`` with ``y1 = pc``. No reduction, so it compiles to SIMD
-    instructions without reordering any sum: every pore is computed the same way, whatever the
-    alignment of the arrays (a run is bitwise reproducible)."""
+    as in :func:`porenet.kernels.diffusion._row_interior`): ``out = c1 y1 + c2 y2 + (ce L y1 +
+    cf f0) / V`` with ``y1 = pc``; ``outlet`` says whether the run touches the outlet (only
+    rows on the lattice's edge do: elsewhere ``g_out`` is not read). No reduction, so it
+    compiles to SIMD instructions without reordering any sum: every pore is computed the same
+    way, whatever the alignment of the arrays (a run is bitwise reproducible)."""
     for j in range(pc.size):
         pk = pc[j]
-        total = gw[j] * (pw[j] - pk) + ge[j] * (pe[j] - pk) - g_out[j] * pk
+        total = gw[j] * (pw[j] - pk) + ge[j] * (pe[j] - pk)
+        if outlet:
+            total -= g_out[j] * pk
         if up:
             total += gu[j] * (pu[j] - pk)
         if down:
             total += gd[j] * (pd[j] - pk)
-        out[j] = c0 * y0[j] + c1 * pk + c2 * y2[j] + (ce * total + cf * f0[j]) * inv_vol[j]
+        out[j] = c1 * pk + c2 * y2[j] + (ce * total + cf * f0[j]) * inv_vol[j]
 
 
 @njit(helper=True)
@@ -127,13 +134,16 @@ def _row_flux(
     gd: np.ndarray,
     up: bool,
     down: bool,
+    outlet: bool,
     g_out: np.ndarray,
     out: np.ndarray,
 ) -> None:
-    """``F_E`` (volumetric) of a run of a row into ``out``."""
+    """``L y1`` (volumetric) of a run of a row into ``out``."""
     for j in range(pc.size):
         pk = pc[j]
-        total = gw[j] * (pw[j] - pk) + ge[j] * (pe[j] - pk) - g_out[j] * pk
+        total = gw[j] * (pw[j] - pk) + ge[j] * (pe[j] - pk)
+        if outlet:
+            total -= g_out[j] * pk
         if up:
             total += gu[j] * (pu[j] - pk)
         if down:
@@ -149,24 +159,25 @@ def grid_stage(
     g_out: np.ndarray,
     inv_vol: np.ndarray,
     y1: np.ndarray,
-    y0: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
-    coef: tuple[float, float, float, float, float],
+    coef: tuple[float, float, float, float],
     out: np.ndarray,
     flux_only: bool,
 ) -> float:
-    """Canonical n x n grids, over the box of active pores: ``out = c0 y0 + c1 y1 + c2 y2 +
-    (ce F_E(y1) + cf f0) / V`` (``coef = (c0, c1, c2, ce, cf)``), or with ``flux_only``
-    ``out = F_E(y1)`` (volumetric). Neighbours outside the box do not count, as in
-    :func:`porenet.kernels.diffusion.grid_sweep`. Returns the outflow rate of ``y1``."""
-    c0, c1, c2, ce, cf = coef
+    """Canonical n x n grids, over the box of active pores: ``out = c1 y1 + c2 y2 + (ce L y1 +
+    cf f0) / V`` (``coef = (c1, c2, ce, cf)``), or with ``flux_only`` ``out = L y1``
+    (volumetric; ``L y`` is the Darcy flux into each pore, ``F_E``). Neighbours outside the box
+    do not count, as in :func:`porenet.kernels.diffusion.grid_sweep`. Returns the outflow
+    rate ``sum g_out y1``."""
+    c1, c2, ce, cf = coef
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
     vertical = n * (n - 1)
     total_out = 0.0
     for i in range(i0, i1):
         row = i * n
         up, down = i > i0, i < i1 - 1
+        outlet = i == 0 or i == n - 1
         a, b = row + j0 + 1, row + j1 - 1
         if b > a:
             h = i * (n - 1) + j0
@@ -179,17 +190,17 @@ def grid_stage(
                     y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
                     g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
                     g_eff[above : above + b - a], g_eff[below : below + b - a],
-                    up, down, g_out[a:b], out[a:b],
+                    up, down, outlet, g_out[a:b], out[a:b],
                 )  # fmt: skip
             else:
                 _row_stage(
                     y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
                     g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
                     g_eff[above : above + b - a], g_eff[below : below + b - a],
-                    up, down, g_out[a:b], inv_vol[a:b], y0[a:b], y2[a:b], f0[a:b],
-                    c0, c1, c2, ce, cf, out[a:b],
+                    up, down, outlet, g_out[a:b], inv_vol[a:b], y2[a:b], f0[a:b],
+                    c1, c2, ce, cf, out[a:b],
                 )  # fmt: skip
-            if i == 0 or i == n - 1:  # the outlet's pores inside the run (sequential sum)
+            if outlet:  # the outlet's pores inside the run (a sequential sum)
                 for k in range(a, b):
                     total_out += g_out[k] * y1[k]
         for k in (row + j0, row + j1 - 1):
@@ -197,8 +208,7 @@ def grid_stage(
             if flux_only:
                 out[k] = total
             else:
-                step = (ce * total + cf * f0[k]) * inv_vol[k]
-                out[k] = c0 * y0[k] + c1 * y1[k] + c2 * y2[k] + step
+                out[k] = c1 * y1[k] + c2 * y2[k] + (ce * total + cf * f0[k]) * inv_vol[k]
             total_out += g_out[k] * y1[k]
             if j1 - j0 == 1:
                 break
@@ -217,16 +227,15 @@ def csr_stage(
     g_out: np.ndarray,
     inv_vol: np.ndarray,
     y1: np.ndarray,
-    y0: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
-    coef: tuple[float, float, float, float, float],
+    coef: tuple[float, float, float, float],
     out: np.ndarray,
     flux_only: bool,
     scratch: np.ndarray,
 ) -> float:
     """Generic lattices, over the active pores ``act[:na]``: as :func:`grid_stage`."""
-    c0, c1, c2, ce, cf = coef
+    c1, c2, ce, cf = coef
     csr_fluxes(na, act, apos, indptr, nbr, thr, g_eff, g_out, y1, scratch)
     total_out = 0.0
     for s in range(na):
@@ -235,8 +244,7 @@ def csr_stage(
         if flux_only:
             out[k] = scratch[k]
         else:
-            step = (ce * scratch[k] + cf * f0[k]) * inv_vol[k]
-            out[k] = c0 * y0[k] + c1 * y1[k] + c2 * y2[k] + step
+            out[k] = c1 * y1[k] + c2 * y2[k] + (ce * scratch[k] + cf * f0[k]) * inv_vol[k]
     return total_out
 
 
@@ -244,10 +252,9 @@ def csr_stage(
 def sweep(
     field: tuple,
     y1: np.ndarray,
-    y0: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
-    coef: tuple[float, float, float, float, float],
+    coef: tuple[float, float, float, float],
     out: np.ndarray,
     flux_only: bool,
 ) -> float:
@@ -255,10 +262,9 @@ def sweep(
     box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch)``."""
     grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch = field
     if grid_n > 0:
-        return grid_stage(grid_n, box, g_eff, g_out, inv_vol, y1, y0, y2, f0, coef, out,
-                          flux_only)  # fmt: skip
-    return csr_stage(na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, y1, y0, y2, f0,
-                     coef, out, flux_only, scratch)  # fmt: skip
+        return grid_stage(grid_n, box, g_eff, g_out, inv_vol, y1, y2, f0, coef, out, flux_only)
+    return csr_stage(na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, y1, y2, f0, coef,
+                     out, flux_only, scratch)  # fmt: skip
 
 
 def spectral_radius(

@@ -115,17 +115,27 @@ def _pump_rate(control: int, q_rate: float, capacity: float, ramp: float, qsum: 
 
 @njit
 def _stage_solve(
-    dt_i: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray, y: np.ndarray
+    dt_i: float,
+    n_on: int,
+    menisci: tuple,
+    pump: tuple,
+    q_out: np.ndarray,
+    p: np.ndarray,
+    d: np.ndarray,
 ) -> float:
-    """The implicit part of a stage: ``y`` holds the stage's right-hand side at the menisci's
-    pores (``flux`` of ``menisci`` is zero); solve over ``dt_i``, write the pores' stage values
-    into ``y`` and the meniscus fluxes into ``q_out``; return the stage's ``p_inv``."""
-    on_p, head = menisci[1], menisci[3]
+    """The implicit part of a stage. ``d`` holds the stage's increment without it; the pores'
+    right-hand sides ``p + d`` go into ``p`` of ``menisci`` (its ``flux`` is zero). Solve over
+    ``dt_i``, write the menisci's pores' increments into ``d`` and the meniscus fluxes into
+    ``q_out``; return the stage's ``p_inv``."""
+    on_p, head, rhs = menisci[1], menisci[3], menisci[5]
+    for s in range(n_on):
+        i = on_p[s]
+        rhs[i] = p[i] + d[i]
     pnew = meniscus_fluxes(dt_i, n_on, menisci, pump, q_out)
     for s in range(n_on):
         i = on_p[s]
         if head[i] == s:
-            y[i] = pore_after(i, pnew, dt_i, menisci)
+            d[i] = pore_after(i, pnew, dt_i, menisci) - p[i]
     return pnew
 
 
@@ -198,7 +208,9 @@ def _stages(
     field: tuple,
     p: np.ndarray,
     f0: np.ndarray,
+    out0: float,
     ybuf: np.ndarray,
+    rhs: np.ndarray,
     zero: np.ndarray,
     n_on: int,
     menisci0: tuple,
@@ -211,11 +223,12 @@ def _stages(
     r_ell: np.ndarray,
     moved: np.ndarray,
 ) -> int:
-    """The ``m`` stages of an RKC step of ``h`` from ``y_n`` (``p``, ``F_E(y_n) = f0``, the
-    menisci's fluxes ``q0``, ``p_inv``, lengths ``ell``). Stage ``j`` goes to buffer
-    ``(j - 1) % 3`` of ``ybuf`` (pores), ``pst`` (p_inv), ``qst`` / ``lst`` (each candidate's
-    flux and length), ``ast`` (drained and outflow volume since ``y_n``). Returns the buffer
-    of ``y_{n+1}``; ``moved[s]`` tells whether candidate ``s`` flowed in any stage."""
+    """The ``m`` stages of an RKC step of ``h`` from ``y_n`` (``p``, ``F_E(y_n) = f0`` with
+    outflow rate ``out0``, the menisci's fluxes ``q0``, ``p_inv``, lengths ``ell``). Stage
+    ``j`` goes to buffer ``(j - 1) % 3``: ``ybuf`` holds the pores' increments ``W_j - y_n``,
+    ``pst`` p_inv, ``qst`` / ``lst`` each candidate's flux and length, ``ast`` the drained and
+    outflow volume since ``y_n``. Returns the buffer of ``y_{n+1}``; ``moved[s]`` tells
+    whether candidate ``s`` flowed in any stage."""
     on_t, on_p, c_on, head, nxt, _p, _f, vol, g_num, ell, area = menisci0
     control, pinv, q_rate, capacity, ramp = pump0
     inv_vol = field[10]
@@ -225,11 +238,11 @@ def _stages(
     for s in range(n_on):
         qsum0 += q0[s]
     fiinv0 = _pump_rate(control, q_rate, capacity, ramp, qsum0)
+    menisci = (on_t, on_p, c_on, head, nxt, rhs, zero, vol, g_num, ell, area)
     # stage 1: W_1 = y_n + dt_i F_E(y_n) + dt_i F_I(W_1)
-    y1 = ybuf[0]
-    out0 = sweep(field, p, p, p, f0, (0.0, 1.0, 0.0, 0.0, dt_i), y1, False)
-    menisci = (on_t, on_p, c_on, head, nxt, y1, zero, vol, g_num, ell, area)
-    pst[0] = _stage_solve(dt_i, n_on, menisci, pump0, qst[0], y1)
+    d1 = ybuf[0]
+    sweep(field, f0, f0, f0, (0.0, 0.0, 0.0, dt_i), d1, False)
+    pst[0] = _stage_solve(dt_i, n_on, menisci, pump0, qst[0], p, d1)
     qs = 0.0
     for s in range(n_on):
         lst[0, s] = ell[on_t[s]] - dt_i * qst[0, s] / area[on_t[s]]
@@ -242,9 +255,11 @@ def _stages(
         mu, nu, mus, gam = coef[j - 2, 0], coef[j - 2, 1], coef[j - 2, 2], coef[j - 2, 3]
         c0 = 1.0 - mu - nu
         prev, k, prev2 = (j - 2) % 3, (j - 1) % 3, (j - 3) % 3
-        yout = ybuf[k]
-        out_prev = sweep(field, ybuf[prev], p, p if j == 2 else ybuf[prev2], f0,
-                         (c0, mu, nu, h * mus, h * gam), yout, False)  # fmt: skip
+        dout = ybuf[k]
+        # d_j = mu d_{j-1} + nu d_{j-2} + h mu~ L d_{j-1} + h (mu~ + g~) F_E(y_n)  (d_0 = 0)
+        coef_j = (mu, 0.0 if j == 2 else nu, h * mus, h * (mus + gam))
+        d2buf = ybuf[prev] if j == 2 else ybuf[prev2]  # (its weight is 0 at j = 2)
+        out_prev = out0 + sweep(field, ybuf[prev], d2buf, f0, coef_j, dout, False)
         w0i = h * (gam - c0 * mus1)  # weight of F_I(y_n)
         w2i = -h * nu * mus1  # weight of F_I(W_{j-2})
         q2 = q0 if j == 2 else qst[prev2]
@@ -255,7 +270,7 @@ def _stages(
         for s in range(n_on):
             i = on_p[s]
             if head[i] == s:
-                yout[i] += (w0i * _implicit_rate(i, q0, head, nxt)
+                dout[i] += (w0i * _implicit_rate(i, q0, head, nxt)
                             + w2i * _implicit_rate(i, q2, head, nxt)) * inv_vol[i]  # fmt: skip
         for s in range(n_on):
             f = on_t[s]
@@ -267,9 +282,8 @@ def _stages(
             pinv2 = pinv if j == 2 else pst[prev2]
             r_inv = c0 * pinv + mu * pst[prev] + nu * pinv2 + w0i * fiinv0
             r_inv += w2i * _pump_rate(control, q_rate, capacity, ramp, qsum2)
-        menisci = (on_t, on_p, c_on, head, nxt, yout, zero, vol, g_num, ell, area)
-        pst[k] = _stage_solve(dt_i, n_on, menisci, (control, r_inv, q_rate, capacity, ramp),
-                              qst[k], yout)  # fmt: skip
+        pump = (control, r_inv, q_rate, capacity, ramp)
+        pst[k] = _stage_solve(dt_i, n_on, menisci, pump, qst[k], p, dout)
         qs = 0.0
         for s in range(n_on):
             lst[k, s] = r_ell[s] - dt_i * qst[k, s] / area[on_t[s]]
@@ -286,16 +300,16 @@ def _stages(
 def _step_error(
     h: float,
     field: tuple,
-    p: np.ndarray,
-    ys: np.ndarray,
+    ds: np.ndarray,
     f0: np.ndarray,
     fnew: np.ndarray,
     fi: np.ndarray,
     vol: np.ndarray,
 ) -> tuple[float, float, float]:
-    """Over the active pores: ``max |0.8 (y_n - y_n+1) + 0.4 h (F(y_n) + F(y_n+1)) / V|``
-    (``F`` is ``f0`` / ``fnew`` plus ``fi`` at the menisci's pores), the stored volume change
-    ``sum V (y_n+1 - y_n)`` and ``max |y_n+1 - y_n|``."""
+    """Over the active pores, with ``ds = y_n+1 - y_n`` and ``fnew = L ds`` on entry (turned
+    into ``F_E(y_n+1) = f0 + L ds``): ``max |-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (``F``
+    is ``F_E`` plus ``fi`` at the menisci's pores), the stored volume change ``sum V ds`` and
+    ``max |ds|``."""
     grid_n, box, na, act = field[0], field[1], field[2], field[3]
     inv_vol = field[10]
     err = 0.0
@@ -310,7 +324,8 @@ def _step_error(
             lo = act[r]
             hi = lo + 1
         for k in range(lo, hi):
-            change = ys[k] - p[k]
+            fnew[k] += f0[k]
+            change = ds[k]
             e = abs(-0.8 * change + 0.4 * h * (f0[k] + fnew[k] + fi[k]) * inv_vol[k])
             err = max(err, e)
             stored += vol[k] * change
@@ -319,16 +334,19 @@ def _step_error(
 
 
 @njit
-def _copy_active(field: tuple, src: np.ndarray, dst: np.ndarray) -> None:
-    """``dst = src`` over the active pores."""
+def _copy_active(field: tuple, src: np.ndarray, dst: np.ndarray, add: bool) -> None:
+    """``dst = src`` (``add``: ``dst += src``) over the active pores."""
     grid_n, box, na, act = field[0], field[1], field[2], field[3]
     if grid_n > 0:
         for i in range(box[0], box[1]):
             a, b = i * grid_n + box[2], i * grid_n + box[3]
-            dst[a:b] = src[a:b]
+            if add:
+                dst[a:b] += src[a:b]
+            else:
+                dst[a:b] = src[a:b]
     else:
         for s in range(na):
-            dst[act[s]] = src[act[s]]
+            dst[act[s]] = dst[act[s]] + src[act[s]] if add else src[act[s]]
 
 
 @njit
@@ -413,7 +431,9 @@ def rkc_advance(
     r_ell = np.zeros(n_thr)
     moved = np.zeros(n_thr, dtype=np.bool_)
     fi = np.zeros(n_pores)  # V (F_I(y_n) + F_I(y_n+1)) at the menisci's pores, for the error
+    rhs = np.zeros(n_pores)  # the stages' right-hand sides at the menisci's pores
     need_f0 = True
+    out0 = 0.0
     h_next = ctrl[0] if ctrl[0] > 0 else EXPLICIT_SPAN * dt_stable
     while True:
         ctrl[0] = h_next
@@ -434,7 +454,7 @@ def rkc_advance(
             need_f0 = True
         field = (grid_n, box, cnt[3], act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, fnew)
         if need_f0:
-            sweep(field, p, p, p, f0, (0.0, 0.0, 0.0, 0.0, 0.0), f0, True)
+            out0 = sweep(field, p, p, f0, (0.0, 0.0, 0.0, 0.0), f0, True)
             need_f0 = False
         menisci0 = (on_t, on_p, c_on, head, nxt, p, f0, vol, g_num, ell, area)
         pump0 = (control, pinv, q_rate, capacity_now, ramp_rate)
@@ -471,9 +491,9 @@ def rkc_advance(
             continue
         m = stage_count(h, rho)
         h = min(h, longest_step(m, rho))
-        k = _stages(h, m, field, p, f0, ybuf, zero, n_on, menisci0, pump0, q0, qst, lst, pst,
-                    ast, r_ell, moved)  # fmt: skip
-        ys, ps, qs = ybuf[k], pst[k], qst[k]
+        k = _stages(h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0, qst,
+                    lst, pst, ast, r_ell, moved)  # fmt: skip
+        ds, ps, qs = ybuf[k], pst[k], qst[k]
         ctrl[1] += m
         ctrl[5] = max(ctrl[5], m)
         # rejected outright: a meniscus past l = 0, or one past its threshold unlisted
@@ -487,7 +507,8 @@ def rkc_advance(
                 reject = 0.5
         for s in range(nf if reject == 0.0 else 0):
             f = front[s]
-            if not cand[f] and ps - ys[_other(tp, drained, f)] > pe[f]:
+            i = _other(tp, drained, f)
+            if not cand[f] and ps - p[i] - ds[i] > pe[f]:
                 reject = 0.5
                 break
         # the error estimate
@@ -498,8 +519,8 @@ def rkc_advance(
             i = on_p[s]
             if head[i] == s:
                 fi[i] = _implicit_rate(i, q0, head, nxt) + _implicit_rate(i, qs, head, nxt)
-        sweep(field, ys, p, p, f0, (0.0, 0.0, 0.0, 0.0, 0.0), fnew, True)
-        err, stored, largest = _step_error(h, field, p, ys, f0, fnew, fi, vol)
+        out_s = sweep(field, ds, ds, f0, (0.0, 0.0, 0.0, 0.0), fnew, True)
+        err, stored, largest = _step_error(h, field, ds, f0, fnew, fi, vol)
         for s in range(n_on):
             fi[on_p[s]] = 0.0
         fiinv = _pump_rate(control, q_rate, capacity_now, ramp_rate, qsum0)
@@ -517,8 +538,9 @@ def rkc_advance(
             _unlist(n_on, on_t, on_p, head, cand)
             continue
         # accept
-        _copy_active(field, ys, p)
-        _copy_active(field, fnew, f0)
+        _copy_active(field, ds, p, True)
+        _copy_active(field, fnew, f0, False)
+        out0 += out_s
         for s in range(n_on):
             if moved[s]:
                 ell[on_t[s]] = lst[k, s]
