@@ -80,7 +80,9 @@ def test_stiff_solid_and_coupling_schedules():
     assert est.mechanical_updates == pytest.approx(est.steps / 4, abs=1)
 
 
-@pytest.mark.parametrize(("ca", "integrator"), [(1e-2, "explicit"), (1e-6, "implicit")])
+@pytest.mark.parametrize(
+    ("ca", "integrator"), [(1e-2, "explicit"), (1e-4, "rkc"), (1e-6, "implicit")]
+)
 def test_step_and_integrator_agree_with_the_model(ca, integrator):
     scene = load_scene(
         {"seed": 3, "lattice": {"n": 20, "disorder": 0.3},
@@ -94,6 +96,7 @@ def test_step_and_integrator_agree_with_the_model(ca, integrator):
     assert 0.75 * sim.fluid.dt_stable <= explicit_step(scene, 0.3) <= sim.fluid.dt_stable
     notes = " ".join(estimate_cost(scene).notes)
     assert ("implicit" in notes) == (integrator == "implicit")
+    assert ("rkc" in notes) == (integrator == "rkc")
 
 
 def test_unknown_kinds_give_unknown_not_an_error():

@@ -41,3 +41,19 @@ def test_fig5_script_runs_on_a_small_lattice(tmp_path):
     assert out.returncode == 0, out.stderr
     assert "N_f = 10" in out.stdout and "rigid" in out.stdout
     assert table.read_text().count("\n| ") == 4  # the header row and three runs
+
+
+def test_accuracy_seeds_script_runs_on_a_small_lattice(tmp_path):
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "accuracy_seeds.py"
+    table = tmp_path / "seeds.md"
+    args = ["--n", "12", "--ca", "1e-4", "--seeds", "1", "--table", str(table)]
+    out = subprocess.run(
+        [sys.executable, str(script), *args], capture_output=True, text=True, timeout=300
+    )
+    assert out.returncode == 0, out.stderr
+    rows = [line for line in table.read_text().splitlines() if line.startswith("| ")]
+    assert len(rows) == 1 + 5  # the header and every setting
+    assert "| explicit, tight (reference) | 1.000 | 1.000 | 0.00e+00 |" in table.read_text()
