@@ -58,16 +58,15 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit
-from porenet.kernels.chebyshev import MAX_STAGES, coefficients, longest_step, stage_count, sweep
+from porenet.kernels.chebyshev import MAX_STAGES, longest_step, stage_count, sweep
 from porenet.kernels.diffusion import grow_where_reached, spread
 from porenet.kernels.menisci import (
     CONTROL_PRESSURE,
-    CONTROL_RAMP,
     CONTROL_RATE,
     invader_pressure,
     meniscus_fluxes,
-    pore_after,
 )
+from porenet.kernels.rkc_step import imex_stages, implicit_rate, pump_rate, step_error
 from porenet.kernels.viscous import STATUS, _list_meniscus, _other, explicit_advance
 
 #: Slots of the ``ctrl`` array (the integrator's memory between calls, and its counters).
@@ -90,53 +89,6 @@ EXPLICIT_SPAN = 8.0
 LAND = 0.95
 #: Largest growth of the step from one accepted step to the next.
 GROW = 10.0
-
-
-@njit(helper=True)
-def _implicit_rate(i: int, q: np.ndarray, head: np.ndarray, nxt: np.ndarray) -> float:
-    """Volumetric meniscus flux into pore ``i`` (its listed menisci, fluxes ``q``)."""
-    total = 0.0
-    s = head[i]
-    while s >= 0:
-        total += q[s]
-        s = nxt[s]
-    return total
-
-
-@njit(helper=True)
-def _pump_rate(control: int, q_rate: float, capacity: float, ramp: float, qsum: float) -> float:
-    """``dp_inv/dt`` given the total meniscus flux."""
-    if control == CONTROL_RATE:
-        return (q_rate - qsum) / capacity
-    if control == CONTROL_RAMP:
-        return ramp
-    return 0.0
-
-
-@njit
-def _stage_solve(
-    dt_i: float,
-    n_on: int,
-    menisci: tuple,
-    pump: tuple,
-    q_out: np.ndarray,
-    p: np.ndarray,
-    d: np.ndarray,
-) -> float:
-    """The implicit part of a stage. ``d`` holds the stage's increment without it; the pores'
-    right-hand sides ``p + d`` go into ``p`` of ``menisci`` (its ``flux`` is zero). Solve over
-    ``dt_i``, write the menisci's pores' increments into ``d`` and the meniscus fluxes into
-    ``q_out``; return the stage's ``p_inv``."""
-    on_p, head, rhs = menisci[1], menisci[3], menisci[5]
-    for s in range(n_on):
-        i = on_p[s]
-        rhs[i] = p[i] + d[i]
-    pnew = meniscus_fluxes(dt_i, n_on, menisci, pump, q_out)
-    for s in range(n_on):
-        i = on_p[s]
-        if head[i] == s:
-            d[i] = pore_after(i, pnew, dt_i, menisci) - p[i]
-    return pnew
 
 
 @njit
@@ -199,138 +151,6 @@ def _unlist(
     for s in range(n_on):
         head[on_p[s]] = -1
         cand[on_t[s]] = False
-
-
-@njit
-def _stages(
-    h: float,
-    m: int,
-    field: tuple,
-    p: np.ndarray,
-    f0: np.ndarray,
-    out0: float,
-    ybuf: np.ndarray,
-    rhs: np.ndarray,
-    zero: np.ndarray,
-    n_on: int,
-    menisci0: tuple,
-    pump0: tuple,
-    q0: np.ndarray,
-    qst: np.ndarray,
-    lst: np.ndarray,
-    pst: np.ndarray,
-    ast: np.ndarray,
-    r_ell: np.ndarray,
-    moved: np.ndarray,
-) -> int:
-    """The ``m`` stages of an RKC step of ``h`` from ``y_n`` (``p``, ``F_E(y_n) = f0`` with
-    outflow rate ``out0``, the menisci's fluxes ``q0``, ``p_inv``, lengths ``ell``). Stage
-    ``j`` goes to buffer ``(j - 1) % 3``: ``ybuf`` holds the pores' increments ``W_j - y_n``,
-    ``pst`` p_inv, ``qst`` / ``lst`` each candidate's flux and length, ``ast`` the drained and
-    outflow volume since ``y_n``. Returns the buffer of ``y_{n+1}``; ``moved[s]`` tells
-    whether candidate ``s`` flowed in any stage."""
-    on_t, on_p, c_on, head, nxt, _p, _f, vol, g_num, ell, area = menisci0
-    control, pinv, q_rate, capacity, ramp = pump0
-    inv_vol = field[10]
-    mus1, coef = coefficients(m)
-    dt_i = h * mus1
-    qsum0 = 0.0
-    for s in range(n_on):
-        qsum0 += q0[s]
-    fiinv0 = _pump_rate(control, q_rate, capacity, ramp, qsum0)
-    menisci = (on_t, on_p, c_on, head, nxt, rhs, zero, vol, g_num, ell, area)
-    # stage 1: W_1 = y_n + dt_i F_E(y_n) + dt_i F_I(W_1)
-    d1 = ybuf[0]
-    sweep(field, f0, f0, f0, (0.0, 0.0, 0.0, dt_i), d1, False)
-    pst[0] = _stage_solve(dt_i, n_on, menisci, pump0, qst[0], p, d1)
-    qs = 0.0
-    for s in range(n_on):
-        lst[0, s] = ell[on_t[s]] - dt_i * qst[0, s] / area[on_t[s]]
-        moved[s] = q0[s] > 0.0 or qst[0, s] > 0.0
-        qs += qst[0, s]
-    ast[0, 0] = dt_i * qs
-    ast[0, 1] = dt_i * out0
-    k = 0
-    for j in range(2, m + 1):
-        mu, nu, mus, gam = coef[j - 2, 0], coef[j - 2, 1], coef[j - 2, 2], coef[j - 2, 3]
-        c0 = 1.0 - mu - nu
-        prev, k, prev2 = (j - 2) % 3, (j - 1) % 3, (j - 3) % 3
-        dout = ybuf[k]
-        # d_j = mu d_{j-1} + nu d_{j-2} + h mu~ L d_{j-1} + h (mu~ + g~) F_E(y_n)  (d_0 = 0)
-        coef_j = (mu, 0.0 if j == 2 else nu, h * mus, h * (mus + gam))
-        d2buf = ybuf[prev] if j == 2 else ybuf[prev2]  # (its weight is 0 at j = 2)
-        out_prev = out0 + sweep(field, ybuf[prev], d2buf, f0, coef_j, dout, False)
-        w0i = h * (gam - c0 * mus1)  # weight of F_I(y_n)
-        w2i = -h * nu * mus1  # weight of F_I(W_{j-2})
-        q2 = q0 if j == 2 else qst[prev2]
-        qsum2 = 0.0
-        for s in range(n_on):
-            qsum2 += q2[s]
-        # right-hand sides of the implicit part: pores, reservoir, meniscus lengths
-        for s in range(n_on):
-            i = on_p[s]
-            if head[i] == s:
-                dout[i] += (w0i * _implicit_rate(i, q0, head, nxt)
-                            + w2i * _implicit_rate(i, q2, head, nxt)) * inv_vol[i]  # fmt: skip
-        for s in range(n_on):
-            f = on_t[s]
-            l2 = ell[f] if j == 2 else lst[prev2, s]
-            swept = (w0i * q0[s] + w2i * q2[s]) / area[f]
-            r_ell[s] = c0 * ell[f] + mu * lst[prev, s] + nu * l2 - swept
-        r_inv = pinv
-        if control != CONTROL_PRESSURE:
-            pinv2 = pinv if j == 2 else pst[prev2]
-            r_inv = c0 * pinv + mu * pst[prev] + nu * pinv2 + w0i * fiinv0
-            r_inv += w2i * _pump_rate(control, q_rate, capacity, ramp, qsum2)
-        pump = (control, r_inv, q_rate, capacity, ramp)
-        pst[k] = _stage_solve(dt_i, n_on, menisci, pump, qst[k], p, dout)
-        qs = 0.0
-        for s in range(n_on):
-            lst[k, s] = r_ell[s] - dt_i * qst[k, s] / area[on_t[s]]
-            moved[s] |= qst[k, s] > 0.0
-            qs += qst[k, s]
-        d2 = 0.0 if j == 2 else ast[prev2, 0]
-        o2 = 0.0 if j == 2 else ast[prev2, 1]
-        ast[k, 0] = mu * ast[prev, 0] + nu * d2 + w0i * qsum0 + w2i * qsum2 + dt_i * qs
-        ast[k, 1] = mu * ast[prev, 1] + nu * o2 + h * mus * out_prev + h * gam * out0
-    return k
-
-
-@njit
-def _step_error(
-    h: float,
-    field: tuple,
-    ds: np.ndarray,
-    f0: np.ndarray,
-    fnew: np.ndarray,
-    fi: np.ndarray,
-    vol: np.ndarray,
-) -> tuple[float, float, float]:
-    """Over the active pores, with ``ds = y_n+1 - y_n`` and ``fnew = L ds`` on entry (turned
-    into ``F_E(y_n+1) = f0 + L ds``): ``max |-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (``F``
-    is ``F_E`` plus ``fi`` at the menisci's pores), the stored volume change ``sum V ds`` and
-    ``max |ds|``."""
-    grid_n, box, na, act = field[0], field[1], field[2], field[3]
-    inv_vol = field[10]
-    err = 0.0
-    stored = 0.0
-    largest = 0.0
-    count = (box[1] - box[0]) if grid_n > 0 else na
-    for r in range(count):
-        if grid_n > 0:
-            lo = (box[0] + r) * grid_n + box[2]
-            hi = lo + box[3] - box[2]
-        else:
-            lo = act[r]
-            hi = lo + 1
-        for k in range(lo, hi):
-            fnew[k] += f0[k]
-            change = ds[k]
-            e = abs(-0.8 * change + 0.4 * h * (f0[k] + fnew[k] + fi[k]) * inv_vol[k])
-            err = max(err, e)
-            stored += vol[k] * change
-            largest = max(largest, abs(change))
-    return err, stored, largest
 
 
 @njit
@@ -491,7 +311,7 @@ def rkc_advance(
             continue
         m = stage_count(h, rho)
         h = min(h, longest_step(m, rho))
-        k = _stages(h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0, qst,
+        k = imex_stages(h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0, qst,
                     lst, pst, ast, r_ell, moved)  # fmt: skip
         ds, ps, qs = ybuf[k], pst[k], qst[k]
         ctrl[1] += m
@@ -518,13 +338,13 @@ def rkc_advance(
             qsums += qs[s]
             i = on_p[s]
             if head[i] == s:
-                fi[i] = _implicit_rate(i, q0, head, nxt) + _implicit_rate(i, qs, head, nxt)
+                fi[i] = implicit_rate(i, q0, head, nxt) + implicit_rate(i, qs, head, nxt)
         out_s = sweep(field, ds, ds, f0, (0.0, 0.0, 0.0, 0.0), fnew, True)
-        err, stored, largest = _step_error(h, field, ds, f0, fnew, fi, vol)
+        err, stored, largest = step_error(h, field, ds, f0, fnew, fi, vol)
         for s in range(n_on):
             fi[on_p[s]] = 0.0
-        fiinv = _pump_rate(control, q_rate, capacity_now, ramp_rate, qsum0)
-        fiinv += _pump_rate(control, q_rate, capacity_now, ramp_rate, qsums)
+        fiinv = pump_rate(control, q_rate, capacity_now, ramp_rate, qsum0)
+        fiinv += pump_rate(control, q_rate, capacity_now, ramp_rate, qsums)
         err = max(err, abs(0.8 * (pinv - ps) + 0.4 * h * fiinv)) / (tolerance * pressure_scale)
         if not (np.isfinite(err) and np.isfinite(ps) and np.isfinite(stored)):
             _unlist(n_on, on_t, on_p, head, cand)
