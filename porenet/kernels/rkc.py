@@ -311,8 +311,8 @@ def rkc_advance(
             continue
         m = stage_count(h, rho)
         h = min(h, longest_step(m, rho))
-        k = imex_stages(h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0, qst,
-                    lst, pst, ast, r_ell, moved)  # fmt: skip
+        k = imex_stages(h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0,
+                        qst, lst, pst, ast, r_ell, moved)  # fmt: skip
         ds, ps, qs = ybuf[k], pst[k], qst[k]
         ctrl[1] += m
         ctrl[5] = max(ctrl[5], m)

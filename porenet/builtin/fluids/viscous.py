@@ -242,7 +242,7 @@ class ViscousDrainage(FluidModel):
         near E = 40 at n = 100); the implicit integrator's cost per drained pore does not
         depend on Ca but each of its ~20 factorisations per pore costs ~N^1.5 on a grid,
         against RKC's ~N sqrt(E) sweeps, so it wins only where E exceeds a multiple of N
-        (measured: at n = 50 and Ca = 1e-6, E ~ 7e4 = 29 N, RKC is still 1.3x faster).
+        (measured: at n = 50 and Ca = 1e-6, E ~ 7e4 = 29 N, RKC is still 1.5x faster).
         ``python tests/benchmarks/bench_implicit.py`` measures all three (docs/performance.md)."""
         choice = self.config.integrator
         if choice != "auto":
