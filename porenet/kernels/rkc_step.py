@@ -68,6 +68,21 @@ def stage_solve(
 
 
 @njit
+def _scaled_rate(field: tuple, f: np.ndarray, dt: float, out: np.ndarray) -> None:
+    """``out = dt f / V`` over the active pores of ``field`` (the first stage's increment)."""
+    grid_n, box, na, act = field[0], field[1], field[2], field[3]
+    inv_vol = field[10]
+    if grid_n > 0:
+        for i in range(box[0], box[1]):
+            for k in range(i * grid_n + box[2], i * grid_n + box[3]):
+                out[k] = dt * f[k] * inv_vol[k]
+    else:
+        for s in range(na):
+            k = act[s]
+            out[k] = dt * f[k] * inv_vol[k]
+
+
+@njit
 def imex_stages(
     h: float,
     m: int,
@@ -105,9 +120,9 @@ def imex_stages(
         qsum0 += q0[s]
     fiinv0 = pump_rate(control, q_rate, capacity, ramp, qsum0)
     menisci = (on_t, on_p, c_on, head, nxt, rhs, zero, vol, g_num, ell, area)
-    # stage 1: W_1 = y_n + dt_i F_E(y_n) + dt_i F_I(W_1)
+    # stage 1: W_1 = y_n + dt_i F_E(y_n) + dt_i F_I(W_1), no stencil needed
     d1 = ybuf[0]
-    sweep(field, f0, f0, f0, (0.0, 0.0, 0.0, dt_i), d1, False)
+    _scaled_rate(field, f0, dt_i, d1)
     pst[0] = stage_solve(dt_i, n_on, menisci, pump0, qst[0], p, d1)
     qs = 0.0
     for s in range(n_on):
