@@ -7,7 +7,9 @@
   the measure docs/accuracy.md uses to compare patterns (its complement is the "pattern
   error");
 * :func:`assert_viscous_run_sane` checks what every viscous run must satisfy, whatever its
-  integrator.
+  integrator;
+* :func:`frontier_menisci` lists the menisci of a finished run with the excess of their
+  pressure difference over their entry pressure (an arrested meniscus has none).
 """
 
 from __future__ import annotations
@@ -56,3 +58,17 @@ def assert_viscous_run_sane(sim: Simulation, result: Any, max_steps: int | None 
     assert np.all(np.diff(drained) >= 0)
     if max_steps is not None:
         assert 0 < result.summary["time_steps"] < max_steps
+
+
+def frontier_menisci(
+    data: Any, p_inv: float, pressure_scale: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The menisci of a run's final state (``result.data``, SI) at invading pressure ``p_inv``
+    (Pa): the undrained pore each one enters, its scaled entry pressure ``2 / r`` (``r`` in
+    units of the pore size ``a``) and the excess ``(p_inv - p_i) / pressure_scale - 2 / r``
+    of its pressure difference over it (``pressure_scale = gamma / a`` in Pa)."""
+    tp, drained = data.throat_pores, data.drained
+    frontier = drained[tp[:, 0]] != drained[tp[:, 1]]
+    pore = np.where(drained[tp[:, 0]], tp[:, 1], tp[:, 0])[frontier]
+    entry = 2.0 / (data.apertures[frontier] / data.pore_size)
+    return pore, entry, (p_inv - data.pressure[pore]) / pressure_scale - entry

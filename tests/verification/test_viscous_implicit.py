@@ -15,7 +15,13 @@ import numpy as np
 import pytest
 
 from porenet.simulation import Simulation
-from porenet.testing.runs import assert_viscous_run_sane, cached_run, pattern_overlap, simulate
+from porenet.testing.runs import (
+    assert_viscous_run_sane,
+    cached_run,
+    frontier_menisci,
+    pattern_overlap,
+    simulate,
+)
 
 GAMMA = 0.07  # N/m
 MU = 1e-3  # Pa s
@@ -228,13 +234,9 @@ def test_trapped_clusters_arrest_under_pressure_control():
     assert trapped.sum() > 0 and not (trapped & drained).any()
     assert p.max() <= p_inv * (1 + 1e-12) and p.min() >= -1e-12 * p_inv
     assert np.all(p[trapped] > 0) and np.all(p[trapped] < p_inv)
-    tp = data.throat_pores
-    r = data.apertures / A
-    frontier = drained[tp[:, 0]] != drained[tp[:, 1]]
-    pore = np.where(drained[tp[:, 0]], tp[:, 1], tp[:, 0])[frontier]
-    excess = (p_inv - p[pore]) / P_SCALE - 2.0 / r[frontier]
+    pore, entry, excess = frontier_menisci(data, p_inv, P_SCALE)
     assert np.all(excess <= 1e-9)
-    held = trapped[pore] & (2.0 / r[frontier] < p_inv / P_SCALE)
+    held = trapped[pore] & (entry < p_inv / P_SCALE)
     assert held.sum() > 0
     assert result.summary["volume_balance_error"] < 1e-12
 

@@ -15,7 +15,13 @@ import pytest
 
 import porenet
 from porenet.simulation import Simulation
-from porenet.testing.runs import assert_viscous_run_sane, cached_run, pattern_overlap, simulate
+from porenet.testing.runs import (
+    assert_viscous_run_sane,
+    cached_run,
+    frontier_menisci,
+    pattern_overlap,
+    simulate,
+)
 
 GAMMA = 0.07  # N/m, the default interfacial tension
 MU = 1e-3  # Pa s, the default viscosity
@@ -283,16 +289,12 @@ def test_trapped_clusters_arrest_by_their_own_pressure():
     np.testing.assert_allclose(data.timeseries["invading_pressure"], p_inv, rtol=1e-12)
 
     # every meniscus is arrested: p_inv - p_i <= p_e = 2 gamma / r (scaled: 2 / r)
-    tp = data.throat_pores
-    r = data.apertures / A
-    frontier = drained[tp[:, 0]] != drained[tp[:, 1]]
-    undrained_pore = np.where(drained[tp[:, 0]], tp[:, 1], tp[:, 0])[frontier]
-    excess = (p_inv - p[undrained_pore]) / P_SCALE - 2.0 / r[frontier]
+    undrained_pore, entry, excess = frontier_menisci(data, p_inv, P_SCALE)
     assert np.all(excess <= 1e-9)  # 1e-9: round-off of the SI <-> scaled conversion
     # and some menisci into trapped clusters are held only by the cluster's raised pressure:
     # at zero defender pressure they would have entered (p_e < p_inv)
     into_trapped = trapped[undrained_pore]
-    held = into_trapped & (2.0 / r[frontier] < p_inv / P_SCALE)
+    held = into_trapped & (entry < p_inv / P_SCALE)
     assert held.sum() > 0
     stored = (data.pressure[trapped] / P_SCALE).sum()  # c_V = 1: stored volume (a^3)
     assert stored > 0

@@ -19,7 +19,13 @@ import pytest
 from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
 from porenet.hooks import build_registry, hookimpl
 from porenet.simulation import Simulation
-from porenet.testing.runs import assert_viscous_run_sane, cached_run, pattern_overlap, simulate
+from porenet.testing.runs import (
+    assert_viscous_run_sane,
+    cached_run,
+    frontier_menisci,
+    pattern_overlap,
+    simulate,
+)
 
 GAMMA = 0.07  # N/m
 MU = 1e-3  # Pa s
@@ -211,11 +217,7 @@ def test_trapped_clusters_arrest_under_pressure_control():
     p, trapped, drained = data.pressure, data.trapped, data.drained
     assert trapped.sum() > 0 and not (trapped & drained).any()
     assert np.all(p[trapped] > 0) and np.all(p[trapped] < p_inv)
-    tp = data.throat_pores
-    r = data.apertures / A
-    frontier = drained[tp[:, 0]] != drained[tp[:, 1]]
-    pore = np.where(drained[tp[:, 0]], tp[:, 1], tp[:, 0])[frontier]
-    excess = (p_inv - p[pore]) / P_SCALE - 2.0 / r[frontier]
+    _, _, excess = frontier_menisci(data, p_inv, P_SCALE)
     assert np.all(excess <= 1e-6)
     assert result.summary["volume_balance_error"] < 1e-11
 
