@@ -101,6 +101,22 @@ def anisotropy(grid: np.ndarray) -> dict[str, float]:
     return {"gyration_ratio": ratio, "axis_bias": float(bias)}
 
 
+def opened_fraction(data: RunData) -> float:
+    """Fraction of the drained pores entered through a throat whose spring was removed.
+
+    Spring ``t`` crosses throat ``t`` (MODEL.md section 5), so a removed spring is a throat
+    the solid opened: invasion through opened throats is fracturing, whatever the fractures'
+    shape. ``nan`` for runs without mechanics (rigid media) or without entered pores.
+    """
+    mechanics = data.mechanics_final or {}
+    removed = mechanics.get("removed_springs")
+    entered = np.asarray(data.throat)
+    entered = entered[entered >= 0]
+    if removed is None or entered.size == 0:
+        return float("nan")
+    return float(np.count_nonzero(np.asarray(removed, dtype=bool)[entered])) / entered.size
+
+
 def pattern_features(data: RunData) -> dict[str, Any]:
     """The features a classifier needs, for a run on a grid lattice.
 
@@ -111,8 +127,9 @@ def pattern_features(data: RunData) -> dict[str, Any]:
         fraction of all pores), ``finger_width_mean`` / ``finger_width_median`` (pores, see
         :func:`finger_widths`), ``longest_run`` (any straight run), ``longest_thin_run`` and
         ``thin_run_fraction`` (fraction of drained pores in thin straight runs of at least
-        :data:`LONG_RUN` pores), ``gyration_ratio``, ``axis_bias`` (:func:`anisotropy`),
-        ``n_bursts``, ``mean_burst``, ``largest_burst`` (where bursts were recorded).
+        :data:`LONG_RUN` pores), ``opened_fraction`` (:func:`opened_fraction`; ``nan`` in
+        rigid media), ``gyration_ratio``, ``axis_bias`` (:func:`anisotropy`), ``n_bursts``,
+        ``mean_burst``, ``largest_burst`` (where bursts were recorded).
     """
     if data.grid_shape is None:
         raise ValueError("pattern features need a lattice with a grid layout")
@@ -130,6 +147,7 @@ def pattern_features(data: RunData) -> dict[str, Any]:
         "longest_run": int(runs.max()) if runs.size else 0,
         "longest_thin_run": int(thin.max()) if thin.size else 0,
         "thin_run_fraction": float(long_thin.sum()) / n_drained if n_drained else 0.0,
+        "opened_fraction": opened_fraction(data),
     }
     features.update(anisotropy(grid))
     bursts = np.asarray(data.burst_sizes)

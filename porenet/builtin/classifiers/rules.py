@@ -3,10 +3,13 @@
 MODEL.md section 7: D_f alone cannot classify a finite sample, so the rules combine it with
 geometric features (:func:`porenet.analysis.features.pattern_features`):
 
-1. **Fracturing** is recognised by thin straight runs: the fraction ``f`` of drained pores in
-   channels one pore wide and at least :data:`~porenet.analysis.features.LONG_RUN` pores
-   long. ``f >= fracture_fraction`` gives FR; ``fracture_onset <= f < fracture_fraction``
-   an intermediate FR/CF or FR/VF.
+1. **Fracturing** is recognised by a fraction ``f``, the larger of two: drained pores in thin
+   straight runs (channels one pore wide and at least
+   :data:`~porenet.analysis.features.LONG_RUN` pores long) and, in deformable media, drained
+   pores entered through throats the solid opened (their spring removed,
+   :func:`~porenet.analysis.features.opened_fraction`; fractures need not be straight).
+   ``f >= fracture_fraction`` gives FR; ``fracture_onset <= f < fracture_fraction`` an
+   intermediate FR/CF or FR/VF.
 2. **Capillary against viscous fingering** is a weighted vote of two indicators, each in
    [-1, 1] (positive: CF): the mean finger width against ``width_split`` (CF clusters are fat,
    VF fingers one pore wide) and the fractal dimension against ``dimension_split`` (after
@@ -38,7 +41,11 @@ class RulesClassifierConfig(ModelConfig):
 
     kind: Literal["rules"] = "rules"
     fracture_fraction: float = Field(
-        0.5, gt=0, le=1, description="Fraction of drained pores in thin straight runs for FR."
+        0.5,
+        gt=0,
+        le=1,
+        description="Fraction of drained pores in thin straight runs, or entered through "
+        "opened throats (deformable media), for FR.",
     )
     fracture_onset: float = Field(
         0.15, ge=0, le=1, description="Fraction from which FR/CF or FR/VF is reported."
@@ -108,7 +115,10 @@ class RulesClassifier(Classifier):
         vote = sum(w * v for w, v in votes) / sum(w for w, _ in votes)
         details["fingering_vote"] = vote
         fingering = "CF" if vote > 0 else "VF"
-        f, hi, lo = features["thin_run_fraction"], c.fracture_fraction, c.fracture_onset
+        f = features["thin_run_fraction"]
+        if not math.isnan(features["opened_fraction"]):
+            f = max(f, features["opened_fraction"])
+        hi, lo = c.fracture_fraction, c.fracture_onset
         if f >= hi:
             span = max(hi - lo, 1e-9)
             return Classification("FR", 0.5 + 0.5 * min(1.0, (f - hi) / span), details)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -11,6 +13,7 @@ from porenet.analysis.features import (
     anisotropy,
     finger_widths,
     longest_straight_run,
+    opened_fraction,
     pattern_features,
     straight_runs,
 )
@@ -83,3 +86,42 @@ def test_pattern_features_of_an_invasion_percolation_run():
     assert 0 <= f["thin_run_fraction"] <= 1
     assert f["n_bursts"] == result.summary["n_bursts"]
     assert LONG_RUN > 1
+
+
+def test_opened_fraction_counts_pores_entered_through_removed_springs():
+    result = porenet.run(
+        {
+            "seed": 2,
+            "lattice": {"n": 24, "disorder": 0.5},
+            "fluid": {"kind": "invasion-percolation"},
+            "classifier": {"kind": "none"},
+        }
+    )
+    data = result.data
+    f = pattern_features(data)
+    assert np.isnan(f["opened_fraction"])  # rigid: no springs
+    entered = data.throat[data.throat >= 0]
+    removed = np.zeros(len(data.throat_pores), dtype=bool)
+    removed[entered[::2]] = True  # every other entered pore came through an opened throat
+    opened = dataclasses.replace(data, mechanics_final={"removed_springs": removed})
+    assert opened_fraction(opened) == pytest.approx(len(entered[::2]) / len(entered))
+    none = dataclasses.replace(data, mechanics_final={"removed_springs": removed & False})
+    assert opened_fraction(none) == 0.0
+
+
+@pytest.mark.parametrize(("n_f", "label"), [(3.0, "FR"), (0.01, None)])
+def test_rules_call_invasion_through_opened_throats_fracturing(n_f, label):
+    scene = {
+        "seed": 1,
+        "lattice": {"n": 30, "disorder": 0.1, "pore_size": 1e-7},
+        "fluid": {"kind": "invasion-percolation"},
+        "solid": {"kind": "hertz", "fracturing_number": n_f},
+    }
+    result = porenet.run(scene)
+    f = pattern_features(result.data)
+    if label == "FR":
+        assert f["opened_fraction"] >= 0.5
+        assert result.summary["regime"] == "FR"
+    else:
+        assert f["opened_fraction"] == 0.0
+        assert not result.summary["regime"].startswith("FR")
