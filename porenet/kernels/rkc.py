@@ -79,8 +79,10 @@ CTRL = {
     "largest_stage_count": 5,
     "last_error": 6,  # error of the last accepted step (0: none since the last restart)
     "last_step": 7,  # its length
+    "rejected_events": 8,  # of the rejected: a meniscus past l = 0 or an unresolved switch
+    "rejected_stages": 9,  # stage sweeps spent on rejected steps
 }
-N_CTRL = 8
+N_CTRL = 10
 
 #: An RKC step shorter than this many explicit steps is not worth its stages: the explicit
 #: integrator takes over (four times as long when a landing is predicted within it).
@@ -331,6 +333,7 @@ def rkc_advance(
             if not cand[f] and ps - p[i] - ds[i] > pe[f]:
                 reject = 0.5
                 break
+        for_event = reject > 0.0
         # the error estimate
         qsum0 = qsums = 0.0
         for s in range(n_on):
@@ -354,6 +357,8 @@ def rkc_advance(
             reject = max(0.2, 0.8 * err ** (-1.0 / 3.0))
         if reject > 0.0:
             ctrl[3] += 1
+            ctrl[8] += 1 if for_event else 0
+            ctrl[9] += m
             h_next = h * reject
             _unlist(n_on, on_t, on_p, head, cand)
             continue

@@ -110,6 +110,8 @@ def low_ca_full(integrator: str) -> dict:
                 "explicit_steps",
                 "rkc_steps",
                 "rejected_steps",
+                "rejected_for_events",
+                "rejected_stage_sweeps",
                 "volume_balance_error",
                 "capillary_number_measured",
             )

@@ -650,5 +650,7 @@ class ViscousDrainage(FluidModel):
             out["stage_sweeps"] = int(ctrl[rkc.CTRL["stages"]])
             out["rkc_steps"] = int(ctrl[rkc.CTRL["rkc_steps"]])
             out["rejected_steps"] = int(ctrl[rkc.CTRL["rejected"]])
+            out["rejected_for_events"] = int(ctrl[rkc.CTRL["rejected_events"]])
+            out["rejected_stage_sweeps"] = int(ctrl[rkc.CTRL["rejected_stages"]])
             out["explicit_steps"] = int(ctrl[rkc.CTRL["explicit_steps"]])
         return out
