@@ -9,6 +9,8 @@ versus wall time, for every accuracy knob of each integrator.
         --integrators explicit implicit --reference implicit       # both integrators
     python examples/scripts/accuracy_viscous.py --n 100 --ca 1e-4 --quick \
         --integrators explicit rkc implicit                           # all three
+    python examples/scripts/accuracy_viscous.py --from-table docs/accuracy-rkc-n400.md \
+        --out docs/figures/accuracy-rkc-n400.png                     # redraw, no runs
 
 For one scene (n x n, centre injection, lambda = 0.3 or --disorder, seed 1, to breakthrough)
 it runs a
@@ -96,6 +98,52 @@ def errors(ref, res, t_snap: float) -> dict[str, float]:
     return out
 
 
+def plot(rows: list[dict], integrators: list[str], title: str, out: Path) -> None:
+    """The work-precision figure of ``rows`` (one curve per integrator and knob)."""
+    from porenet.viz.accuracy import error_vs_wall
+    from porenet.viz.pattern import save_figure
+
+    groups = [
+        (
+            f"{integrator}: {knob}",
+            [r for r in rows if r["knob"] == knob and r["integrator"] == integrator],
+            STYLE[integrator],
+        )
+        for integrator in integrators
+        for knob in KNOBS[integrator]
+    ]
+    groups = [g for g in groups if g[1]]  # (a defaults-only integrator has one point)
+    fig = error_vs_wall(groups, ("pattern", "breakthrough_time", "pressure"), title,
+                        zero_at=1e-16)  # fmt: skip
+    save_figure(fig, out)
+    print(f"figure: {out}")
+
+
+def replot(table: Path, out: Path) -> None:
+    """Redraw the figure of a table this script wrote (``--table``), without running."""
+    lines = table.read_text().splitlines()
+    header = lines[0]  # "Scene: n = N, Ca = CA, lambda = L, ... Reference: I integrator, ..."
+    scene_part, reference_part = header.split(" Reference: ")
+    fields = dict(f.split(" = ") for f in scene_part.removeprefix("Scene: ").split(", ")[:3])
+    reference = reference_part.split(" ")[0]
+    wall_ref = float(reference_part.rsplit(", ", 1)[1].removesuffix(" s."))
+    rows = []
+    for line in lines[4:]:
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        if len(cells) != 9:
+            continue
+        integrator, knob, value, wall, _steps, _work, pattern, t_bt, pressure = cells
+        rows.append({"integrator": integrator, "knob": knob, "value": value,
+                     "wall": float(wall), "pattern": float(pattern),
+                     "breakthrough_time": float(t_bt), "pressure": float(pressure)})  # fmt: skip
+    integrators = list(dict.fromkeys(r["integrator"] for r in rows))
+    title = (
+        f"{', '.join(integrators)}, n = {fields['n']}, Ca = {fields['Ca']}, lambda = "
+        f"{fields['lambda']}: error vs wall time (reference: {reference}, {wall_ref:.1f} s)"
+    )
+    plot(rows, integrators, title, out)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100)
@@ -119,7 +167,17 @@ def main() -> None:
     )
     parser.add_argument("--out", type=Path, help="figure (PNG)")
     parser.add_argument("--table", type=Path, help="markdown table")
+    parser.add_argument(
+        "--from-table",
+        type=Path,
+        help="redraw the figure (--out) of a table written by --table, without running",
+    )
     args = parser.parse_args()
+    if args.from_table:
+        if not args.out:
+            parser.error("--from-table needs --out")
+        replot(args.from_table, args.out)
+        return
     DISORDER[0] = args.disorder
 
     for integrator in args.integrators:  # warm-up: load the numba cache
@@ -183,29 +241,12 @@ def main() -> None:
         args.table.write_text("\n".join(lines) + "\n")
         print(f"table: {args.table}")
     if args.out:
-        from porenet.viz.accuracy import error_vs_wall
-        from porenet.viz.pattern import save_figure
-
-        groups = [
-            (
-                f"{integrator}: {knob}",
-                [r for r in rows if r["knob"] == knob and r["integrator"] == integrator],
-                STYLE[integrator],
-            )
-            for integrator in args.integrators
-            for knob in KNOBS[integrator]
-        ]
-        groups = [g for g in groups if g[1]]  # (a defaults-only integrator has one point)
-        fig = error_vs_wall(
-            groups,
-            ("pattern", "breakthrough_time", "pressure"),
+        title = (
             f"{', '.join(args.integrators)}, n = {args.n}, Ca = {args.ca:g}, lambda = "
             f"{args.disorder:g}: error vs wall time (reference: {args.reference}, "
-            f"{wall_ref:.1f} s)",
-            zero_at=1e-16,
+            f"{wall_ref:.1f} s)"
         )
-        save_figure(fig, args.out)
-        print(f"figure: {args.out}")
+        plot(rows, args.integrators, title, args.out)
 
 
 if __name__ == "__main__":

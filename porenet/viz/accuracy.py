@@ -11,6 +11,19 @@ if TYPE_CHECKING:  # pragma: no cover
 MARKERS = "os^vDP"
 
 
+def _plain_log_ticks(ax: Any) -> None:
+    """Label a log axis that spans less than a decade or two with plain numbers at a few
+    ticks (matplotlib's default labels every minor tick of a narrow log axis as ``a x 10^b``,
+    and they overlap)."""
+    from matplotlib.ticker import LogLocator, NullFormatter, StrMethodFormatter
+
+    for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        if lo > 0 and hi / lo < 100:
+            axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+            axis.set_major_formatter(StrMethodFormatter("{x:.3g}"))
+            axis.set_minor_formatter(NullFormatter())
+
+
 def error_vs_wall(
     groups: Sequence[tuple[str, Sequence[dict[str, Any]], str]],
     metrics: Sequence[str],
@@ -55,6 +68,7 @@ def error_vs_wall(
                 ax.annotate(f"{v}", (w, e), fontsize=7, xytext=(3, 3), textcoords="offset points")
         if reference_wall is not None:
             ax.axvline(reference_wall, color="k", lw=0.8, ls=":", label=reference_label)
+        _plain_log_ticks(ax)
         ax.set_xlabel("wall time (s)")
         ax.set_ylabel(f"{metric.replace('_', ' ')} error")
         ax.grid(True, which="both", alpha=0.3)
