@@ -218,7 +218,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         sys.stderr.flush()
         width = len(line)
 
-    tty = not args.quiet and sys.stderr.isatty()
+    def log_line(p: Progress) -> None:  # a log (not a terminal): one line per finished run
+        if p.last is not None:
+            print(f"{Path(args.sweep).name}: {p.last} finished; {format_progress(p)}",
+                  file=sys.stderr, flush=True)  # fmt: skip
+
+    tty = sys.stderr.isatty()
     try:
         report = run_sweep(
             args.sweep,
@@ -227,7 +232,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             scheduler=args.scheduler,
             dask_local=args.dask_local,
             retry_failed=args.retry_failed,
-            on_progress=show if tty else None,
+            on_progress=None if args.quiet else show if tty else log_line,
         )
     except SweepInterrupted as exc:
         print(f"{chr(10) if width else ''}porenet sweep: {exc}", file=sys.stderr)

@@ -142,9 +142,14 @@ def test_an_edited_sweep_is_refused_naming_the_run(tmp_path):
 def test_cli_sweep_quiet_and_final_line(tmp_path, capsys):
     path = _sweep(tmp_path)
     assert main(["sweep", str(path), "-o", str(tmp_path / "o"), "--workers", "1"]) == 0
-    assert "8 runs: 8 done, 0 failed" in capsys.readouterr().out
+    captured = capsys.readouterr()
+    assert "8 runs: 8 done, 0 failed" in captured.out
+    # stderr is not a terminal here: one progress line per finished run, as for a log file
+    lines = [x for x in captured.err.splitlines() if " finished; " in x]
+    assert len(lines) == 8 and lines[-1].split("finished; ")[1].startswith("8/8 runs, 0 failed")
     assert main(["sweep", str(path), "-o", str(tmp_path / "o"), "-q"]) == 0
-    assert capsys.readouterr().out == ""
+    captured = capsys.readouterr()
+    assert captured.out == "" and " finished; " not in captured.err
 
 
 def test_cli_failures_and_errors(tmp_path, capsys):
