@@ -79,7 +79,7 @@ CTRL = {
     "largest_stage_count": 5,
     "last_error": 6,  # error of the last accepted step (0: none since the last restart)
     "last_step": 7,  # its length
-    "rejected_events": 8,  # of the rejected: a meniscus past l = 0 or an unresolved switch
+    "rejected_events": 8,  # of the rejected: a meniscus past l = 0, unresolved or unlisted
     "rejected_stages": 9,  # stage sweeps spent on rejected steps
 }
 N_CTRL = 10
