@@ -27,6 +27,25 @@ _STEP_CHUNK = 20_000
 AUTO_RKC_STEPS = 50.0
 AUTO_IMPLICIT_PER_PORE = 50.0
 
+#: The step-controlled integrators' counters in ``/summary``: attribute -> slot of the
+#: kernel module of the same name's ``CTRL`` (:mod:`porenet.kernels.implicit`,
+#: :mod:`porenet.kernels.rkc`).
+_SUMMARY_COUNTERS = {
+    "implicit": {
+        "linear_solves": "solves",
+        "factorizations": "factorizations",
+        "rejected_steps": "rejected",
+    },
+    "rkc": {
+        "stage_sweeps": "stages",
+        "rkc_steps": "rkc_steps",
+        "rejected_steps": "rejected",
+        "rejected_for_events": "rejected_events",
+        "rejected_stage_sweeps": "rejected_stages",
+        "explicit_steps": "explicit_steps",
+    },
+}
+
 
 def auto_integrator(explicit_steps_per_drained: float, n_pores: int) -> str:
     """What ``integrator = 'auto'`` picks under rate control, from the explicit integrator's
@@ -634,23 +653,12 @@ class ViscousDrainage(FluidModel):
             "final_invading_pressure": state.invading_pressure * sc.pressure,
             "integrator": self.integrator,
         }
-        if self.integrator == "implicit":
-            from porenet.kernels import implicit as ik
+        if self.integrator in _SUMMARY_COUNTERS:
+            import importlib
 
-            ctrl = self._ctrl
+            # the kernel module of each step-controlled integrator has its name
+            slots = importlib.import_module(f"porenet.kernels.{self.integrator}").CTRL
             out["time_step_s"] = state.time / max(steps, 1) * (sc.time or 0.0)
-            out["linear_solves"] = int(ctrl[ik.CTRL["solves"]])
-            out["factorizations"] = int(ctrl[ik.CTRL["factorizations"]])
-            out["rejected_steps"] = int(ctrl[ik.CTRL["rejected"]])
-        if self.integrator == "rkc":
-            from porenet.kernels import rkc
-
-            ctrl = self._ctrl
-            out["time_step_s"] = state.time / max(steps, 1) * (sc.time or 0.0)
-            out["stage_sweeps"] = int(ctrl[rkc.CTRL["stages"]])
-            out["rkc_steps"] = int(ctrl[rkc.CTRL["rkc_steps"]])
-            out["rejected_steps"] = int(ctrl[rkc.CTRL["rejected"]])
-            out["rejected_for_events"] = int(ctrl[rkc.CTRL["rejected_events"]])
-            out["rejected_stage_sweeps"] = int(ctrl[rkc.CTRL["rejected_stages"]])
-            out["explicit_steps"] = int(ctrl[rkc.CTRL["explicit_steps"]])
+            for key, slot in _SUMMARY_COUNTERS[self.integrator].items():
+                out[key] = int(self._ctrl[slots[slot]])
         return out
