@@ -8,6 +8,8 @@
   error");
 * :func:`assert_viscous_run_sane` checks what every viscous run must satisfy, whatever its
   integrator;
+* :func:`tiny_lattice_cases` and :func:`assert_tiny_lattice_outcome` are the 3 x 3 hard
+  cases every viscous integrator's tests run, and what they must end with;
 * :func:`frontier_menisci` lists the menisci of a finished run with the excess of their
   pressure difference over their entry pressure (an arrested meniscus has none).
 """
@@ -58,6 +60,34 @@ def assert_viscous_run_sane(sim: Simulation, result: Any, max_steps: int | None 
     assert np.all(np.diff(drained) >= 0)
     if max_steps is not None:
         assert 0 < result.summary["time_steps"] < max_steps
+
+
+def tiny_lattice_cases(
+    scene: Any, capillary_number: float, injection_pressure: float
+) -> dict[str, tuple[dict, str]]:
+    """The 3 x 3 hard cases, ``name -> (scene, expected stop reason)``: rate control to
+    breakthrough and to completion at ``capillary_number``, and pressure control at
+    ``injection_pressure`` (Pa) to completion. ``scene(**kw)`` is the test file's scene
+    builder (it sets the integrator)."""
+    return {
+        "3x3": (scene(n=3, capillary_number=capillary_number), "breakthrough"),
+        "3x3-complete": (
+            scene(n=3, at="complete", capillary_number=capillary_number),
+            "complete",
+        ),
+        "3x3-pressure": (
+            scene(n=3, at="complete", control="pressure", injection_pressure=injection_pressure),
+            "complete",
+        ),
+    }
+
+
+def assert_tiny_lattice_outcome(result: Any, reason: str) -> None:
+    """What a 3 x 3 run must end with: all 8 non-centre pores are outlet pores, so
+    breakthrough comes at the second drained pore and "complete" drains everything (no
+    cluster can be cut off)."""
+    assert result.summary["n_drained"] == (2 if reason == "breakthrough" else 9)
+    assert not result.data.trapped.any()
 
 
 def frontier_menisci(

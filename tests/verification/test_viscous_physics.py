@@ -16,11 +16,13 @@ import pytest
 import porenet
 from porenet.simulation import Simulation
 from porenet.testing.runs import (
+    assert_tiny_lattice_outcome,
     assert_viscous_run_sane,
     cached_run,
     frontier_menisci,
     pattern_overlap,
     simulate,
+    tiny_lattice_cases,
 )
 
 GAMMA = 0.07  # N/m, the default interfacial tension
@@ -311,12 +313,7 @@ HARD_CASES = {
     "Ca=1e-6": (scene(n=10, capillary_number=1e-6), "breakthrough"),
     # explicit steps grow like 1/Ca: ~1.3e7 steps for one drained pore at n = 3 (~6 s here)
     "Ca=1e-7": (scene(n=3, capillary_number=1e-7, max_steps=5 * 10**7), "breakthrough"),
-    "3x3": (scene(n=3, capillary_number=1e-2), "breakthrough"),
-    "3x3-complete": (scene(n=3, at="complete", capillary_number=1e-2), "complete"),
-    "3x3-pressure": (
-        scene(n=3, at="complete", control="pressure", injection_pressure=3 * P_SCALE),
-        "complete",
-    ),
+    **tiny_lattice_cases(scene, 1e-2, 3 * P_SCALE),
 }
 
 
@@ -332,13 +329,8 @@ def test_hard_cases_stay_finite_and_finish(case):
     # of 1e-15 per step (1e-12 at least) still catches any lost flux
     steps = result.summary["time_steps"]
     assert result.summary["volume_balance_error"] < max(1e-15 * steps, 1e-12)
-    n = sc["lattice"]["n"]
-    if n == 3:
-        # all 8 non-centre pores are outlet pores: breakthrough at the second drained pore,
-        # and "complete" drains everything (no cluster can be cut off)
-        expected = 2 if reason == "breakthrough" else 9
-        assert result.summary["n_drained"] == expected
-        assert not result.data.trapped.any()
+    if sc["lattice"]["n"] == 3:
+        assert_tiny_lattice_outcome(result, reason)
 
 
 def test_units_scale_out():

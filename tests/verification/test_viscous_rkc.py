@@ -20,11 +20,13 @@ from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
 from porenet.hooks import build_registry, hookimpl
 from porenet.simulation import Simulation
 from porenet.testing.runs import (
+    assert_tiny_lattice_outcome,
     assert_viscous_run_sane,
     cached_run,
     frontier_menisci,
     pattern_overlap,
     simulate,
+    tiny_lattice_cases,
 )
 
 GAMMA = 0.07  # N/m
@@ -182,12 +184,7 @@ HARD_CASES = {
     "lambda=0.95": (scene(n=20, disorder=0.95, capillary_number=1e-4), "breakthrough"),
     "Ca=1": (scene(n=20, capillary_number=1.0), "breakthrough"),
     "Ca=1e-7": (scene(n=20, capillary_number=1e-7), "breakthrough"),
-    "3x3": (scene(n=3, capillary_number=1e-4), "breakthrough"),
-    "3x3-complete": (scene(n=3, at="complete", capillary_number=1e-4), "complete"),
-    "3x3-pressure": (
-        scene(n=3, at="complete", control="pressure", injection_pressure=3 * P_SCALE),
-        "complete",
-    ),
+    **tiny_lattice_cases(scene, 1e-4, 3 * P_SCALE),
 }
 
 
@@ -202,7 +199,7 @@ def test_hard_cases_stay_finite_and_finish(case):
     sweeps = s["stage_sweeps"] + s["time_steps"]
     assert s["volume_balance_error"] < max(1e-15 * sweeps, 1e-12)
     if sc["lattice"]["n"] == 3:
-        assert s["n_drained"] == (2 if reason == "breakthrough" else 9)
+        assert_tiny_lattice_outcome(result, reason)
 
 
 def test_trapped_clusters_arrest_under_pressure_control():
