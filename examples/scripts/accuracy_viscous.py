@@ -121,12 +121,18 @@ def plot(rows: list[dict], integrators: list[str], title: str, out: Path) -> Non
 
 def replot(table: Path, out: Path) -> None:
     """Redraw the figure of a table this script wrote (``--table``), without running."""
-    lines = table.read_text().splitlines()
-    header = lines[0]  # "Scene: n = N, Ca = CA, lambda = L, ... Reference: I integrator, ..."
-    scene_part, reference_part = header.split(" Reference: ")
-    fields = dict(f.split(" = ") for f in scene_part.removeprefix("Scene: ").split(", ")[:3])
-    reference = reference_part.split(" ")[0]
-    wall_ref = float(reference_part.rsplit(", ", 1)[1].removesuffix(" s."))
+    try:
+        lines = table.read_text().splitlines()
+        header = lines[0]  # "Scene: n = N, Ca = CA, lambda = L, ... Reference: I integrator, ..."
+        scene_part, reference_part = header.split(" Reference: ")
+        fields = dict(f.split(" = ") for f in scene_part.removeprefix("Scene: ").split(", ")[:3])
+        reference = reference_part.split(" ")[0]
+        wall_ref = float(reference_part.rsplit(", ", 1)[1].removesuffix(" s."))
+        missing = {"n", "Ca", "lambda"} - fields.keys()
+        if missing:
+            raise KeyError(f"header lacks {sorted(missing)}")
+    except (OSError, IndexError, KeyError, ValueError) as exc:
+        raise SystemExit(f"{table}: not a table written by --table ({exc!r})") from None
     rows = []
     for line in lines[4:]:
         cells = [c.strip() for c in line.strip("|").split("|")]
@@ -136,6 +142,8 @@ def replot(table: Path, out: Path) -> None:
         rows.append({"integrator": integrator, "knob": knob, "value": value,
                      "wall": float(wall), "pattern": float(pattern),
                      "breakthrough_time": float(t_bt), "pressure": float(pressure)})  # fmt: skip
+    if not rows:
+        raise SystemExit(f"{table}: no rows of a table written by --table")
     integrators = list(dict.fromkeys(r["integrator"] for r in rows))
     title = (
         f"{', '.join(integrators)}, n = {fields['n']}, Ca = {fields['Ca']}, lambda = "
