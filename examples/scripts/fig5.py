@@ -30,13 +30,20 @@ LAMBDA = 0.1
 
 
 def run(
-    n: int, nf: float | None, output: Path | None, cap: float | None = None
+    n: int,
+    nf: float | None,
+    output: Path | None,
+    cap: float | None = None,
+    foundation: float | None = None,
+    seed: int | None = None,
 ) -> tuple[float, object]:
     """The scene at n pores per side, Ca* = 10, at fracturing number ``nf`` (None: rigid),
-    with the solid's ``aperture_cap`` if given."""
+    with the solid's ``aperture_cap`` and ``foundation`` and the scene's seed if given."""
     with SCENE.open("rb") as f:
         scene = tomllib.load(f)
     scene["lattice"]["n"] = n
+    if seed is not None:
+        scene["seed"] = seed
     scene["fluid"]["capillary_number"] = capillary_number_at(10.0, n, LAMBDA)
     if nf is None:
         scene["solid"] = {"kind": "rigid"}
@@ -44,6 +51,8 @@ def run(
         scene["solid"]["fracturing_number"] = nf
         if cap is not None:
             scene["solid"]["aperture_cap"] = cap
+        if foundation is not None:
+            scene["solid"]["foundation"] = foundation
     sim = Simulation.from_scene(scene, output=output)
     t0 = time.perf_counter()
     result = sim.run()
@@ -55,6 +64,10 @@ def main() -> None:
     parser.add_argument("--n", type=int, default=400)
     parser.add_argument("--nf", type=float, nargs="+", default=[10.0, 3.0, 1.0, 0.3, 0.1, 0.01])
     parser.add_argument("--aperture-cap", type=float, help="solid.aperture_cap (default 2)")
+    parser.add_argument(
+        "--foundation", type=float, help="solid.foundation, k_f / K_0 (default 0: the paper's)"
+    )
+    parser.add_argument("--seed", type=int, help="the scene's seed (default 1)")
     parser.add_argument("--no-rigid", action="store_true", help="skip the rigid run")
     parser.add_argument("--runs", type=Path, help="directory for the run files")
     parser.add_argument("--out", type=Path, help="figure (PNG)")
@@ -66,7 +79,7 @@ def main() -> None:
     for nf in [*args.nf] + ([] if args.no_rigid else [None]):
         label = "rigid" if nf is None else f"N_f = {nf:g}"
         out = None if args.runs is None else args.runs / f"fig5-{label.replace(' ', '')}.h5"
-        wall, res = run(args.n, nf, out, args.aperture_cap)
+        wall, res = run(args.n, nf, out, args.aperture_cap, args.foundation, args.seed)
         data = res.data
         xy = data.pore_coords / data.pore_size
         centre = xy[data.order[0]]
@@ -91,9 +104,11 @@ def main() -> None:
             flush=True,
         )
     if args.table:
+        seed = 1 if args.seed is None else args.seed
         lines = [
             f"n = {args.n}, lambda = {LAMBDA}, Ca* = 10 (Ca = "
-            f"{capillary_number_at(10.0, args.n, LAMBDA):.4g}), seed 1, to breakthrough "
+            f"{capillary_number_at(10.0, args.n, LAMBDA):.4g}), seed {seed}, "
+            f"foundation {args.foundation or 0.0:g}, to breakthrough "
             "(`python examples/scripts/fig5.py`).",
             "",
             "| medium | wall (s) | fluid steps | mechanical updates | drained pores | springs "

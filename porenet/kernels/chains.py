@@ -236,6 +236,7 @@ def solve_chains(
     modulus: float,
     cohesion_stiffness: float,
     contact_stiffness: float,
+    foundation_stiffness: float,
     recontact: bool,
     max_iterations: int,
     displacement: np.ndarray,
@@ -264,8 +265,10 @@ def solve_chains(
         Compression (a) and force (gamma a) of each spring.
     mode : (M,) int8, in/out
         ``IN_CONTACT`` or ``OPEN`` (``RECONTACT`` is used within an update only).
-    modulus, cohesion_stiffness, contact_stiffness : float
-        ``E*`` (gamma/a), ``k_c`` and ``K_0`` (gamma).
+    modulus, cohesion_stiffness, contact_stiffness, foundation_stiffness : float
+        ``E*`` (gamma/a), ``k_c``, ``K_0`` and ``k_f`` (gamma); ``k_f`` ties every free
+        particle to its initial position along the chain
+        (:mod:`porenet.kernels.mechanics`, "Foundation").
     recontact : bool
         Whether an open spring may close again.
     max_iterations : int
@@ -326,8 +329,10 @@ def solve_chains(
             fl[i] = force[s]
             local[i] = mode[s]
         imbalance = 0.0
+        k_f = foundation_stiffness
         for j in range(n_int):
-            fp[j] = load[chain_particles[p0 + j + 1], ax] * d_sign
+            q = chain_particles[p0 + j + 1]
+            fp[j] = (load[q, ax] - k_f * displacement[q, ax]) * d_sign  # fluid + foundation
             imbalance = max(imbalance, abs(fp[j] + fl[j] - fl[j + 1]))
         if imbalance == 0.0:  # in balance: its solution would be 0
             continue
@@ -342,15 +347,15 @@ def solve_chains(
                     local[i], hl[i], fl[i], kh[i], cohesion_stiffness, contact_stiffness
                 )
             # Balance at interior particle j+1 (unknown j):
-            # (k_j + k_{j+1}) v_j - k_j v_{j-1} - k_{j+1} v_{j+1} = f_j + b_j - b_{j+1}
+            # (k_j + k_{j+1} + k_f) v_j - k_j v_{j-1} - k_{j+1} v_{j+1} = f_j + b_j - b_{j+1}
             for j in range(n_int):
                 rhs[j] = fp[j] + b[j] - b[j + 1]
             if n_int > 0:  # Thomas algorithm (symmetric positive definite: k > 0)
-                inv = 1.0 / (k[0] + k[1])
+                inv = 1.0 / (k[0] + k[1] + k_f)
                 cprime[0] = -k[1] * inv
                 rhs[0] = rhs[0] * inv
                 for j in range(1, n_int):
-                    inv = 1.0 / (k[j] + k[j + 1] + k[j] * cprime[j - 1])
+                    inv = 1.0 / (k[j] + k[j + 1] + k_f + k[j] * cprime[j - 1])
                     cprime[j] = -k[j + 1] * inv
                     rhs[j] = (rhs[j] + k[j] * rhs[j - 1]) * inv
                 v[n_int - 1] = rhs[n_int - 1]
@@ -395,7 +400,7 @@ def solve_chains(
                 mode[s] = new_mode
         for j in range(n_int):
             displacement[chain_particles[p0 + j + 1], ax] += v[j] * d_sign
-            residual = max(residual, abs(fp[j] + b[j] - b[j + 1]))
+            residual = max(residual, abs(fp[j] - k_f * v[j] + b[j] - b[j + 1]))
     stats[0] = worst
     stats[1] = unsettled
     stats[2] = residual

@@ -46,6 +46,19 @@ not depend on ``k_c`` (tests/verification/test_mechanics_physics.py). A re-formi
 starts at ``h = 0``, where the Hertz tangent is zero, so it is given the
 prestress stiffness ``K_0`` for the update in which it forms, and the Hertz tangent afterwards.
 
+Foundation
+----------
+An option beyond the paper (``foundation`` of the solid's config, 0 by default): every free
+particle is also held to its initial position by a linear spring of stiffness ``k_f`` in x and
+in y (a Winkler foundation), force ``-k_f u`` with ``u`` its total displacement. In the
+paper's frictionless square lattice the springs resist only along their axis, so a force on a
+particle is carried by its line of springs to the fixed ring and its displacement grows with
+the distance to it (~ ``L f / 4K``); with ``k_f > 0`` it decays along the line over
+~ ``sqrt(K / k_f)`` springs, a local response as the fracturing number's scaling assumes
+(``dh ~ df / K`` of one spring). The foundation changes neither the prestressed state (it
+carries no force at ``u = 0``) nor the linearity of an update: it adds ``k_f`` to the
+stiffness matrix's diagonal and ``-k_f u`` to the loads.
+
 Solvers
 -------
 When every spring lies along x or y (the square lattice), x and y decouple and every line of
@@ -253,6 +266,8 @@ def solve_sparse(
     contact_stiffness: float,
     recontact: bool,
     max_iterations: int,
+    displacement: np.ndarray | None = None,
+    foundation_stiffness: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
     """One mechanical update on any spring network: the same laws and contact iteration as
     :func:`solve_chains`, with the 2-D stiffness matrix of the free particles assembled in
@@ -260,6 +275,8 @@ def solve_sparse(
 
     Parameters are those of :func:`solve_chains` plus ``axis`` ((M, 2) unit vectors,
     :func:`spring_axes`) and ``fixed`` ((n_particles,) bool). ``mode`` is updated in place.
+    With ``foundation_stiffness`` ``k_f > 0`` (module docstring, "Foundation") the particles'
+    current total ``displacement`` ((n_particles, 2)) is needed.
 
     Returns
     -------
@@ -292,6 +309,11 @@ def solve_sparse(
     row, col = row[keep], col[keep]
     coef, spring = np.concatenate(coefs)[keep], np.concatenate(springs)[keep]
     size = 2 * free.size
+    if foundation_stiffness > 0.0:
+        if displacement is None:
+            raise ValueError("solve_sparse: a foundation needs the current displacement")
+        row = np.concatenate([row, np.arange(size)])
+        col = np.concatenate([col, np.arange(size)])  # k_f on the diagonal, after the springs
     tangent = hertz_stiffness(h, modulus)
     k, b = np.empty_like(h), np.empty_like(h)
     local = mode.copy()
@@ -302,7 +324,12 @@ def solve_sparse(
         _contact_laws(local, h, force, tangent, cohesion_stiffness, contact_stiffness, k, b)
         rhs_full = load.copy()
         add_spring_loads(b, spring_particles, axis, rhs_full)
-        matrix = coo_matrix((k[spring] * coef, (row, col)), shape=(size, size)).tocsc()
+        values = k[spring] * coef
+        if foundation_stiffness > 0.0:
+            assert displacement is not None
+            rhs_full -= foundation_stiffness * displacement
+            values = np.concatenate([values, np.full(size, foundation_stiffness)])
+        matrix = coo_matrix((values, (row, col)), shape=(size, size)).tocsc()
         x = splu(matrix).solve(rhs_full[free].ravel())
         du[:] = 0.0
         du[free] = x.reshape(-1, 2)
@@ -325,9 +352,12 @@ def balance_residual(
     spring_particles: np.ndarray,
     axis: np.ndarray,
     fixed: np.ndarray,
+    displacement: np.ndarray,
+    foundation_stiffness: float,
 ) -> float:
-    """Largest net force on a free particle (gamma a): fluid ``load`` plus contact forces."""
-    total = load.copy()
+    """Largest net force on a free particle (gamma a): fluid ``load`` plus contact forces plus
+    the foundation's ``-k_f u`` (module docstring)."""
+    total = load - foundation_stiffness * displacement
     add_spring_loads(force, spring_particles, axis, total)
     largest = 0.0
     for q in range(fixed.shape[0]):

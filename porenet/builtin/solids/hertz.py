@@ -49,6 +49,17 @@ class HertzConfig(ModelConfig):
         "K_0 = 2 E* sqrt(R* h_0) (-): the small cohesive regularisation that keeps a particle "
         "that lost its contacts solvable. Results do not depend on it (docs/model.md).",
     )
+    foundation: float = Field(
+        0.0,
+        ge=0,
+        le=100,
+        description="Stiffness of an elastic support (Winkler foundation) that holds every free "
+        "particle to its initial position, in x and in y, relative to the prestress stiffness "
+        "K_0 (-). 0 is the paper's model: a frictionless square lattice carries a particle's "
+        "load along its line of springs to the fixed ring. A positive value makes the response "
+        "local (it decays over ~1/sqrt(foundation) springs); not in the paper "
+        "(docs/model.md, docs/paper.md).",
+    )
     boundary: Literal["fixed-ring"] = Field(
         "fixed-ring",
         description="Mechanical boundary: 'fixed-ring', the outer ring of particles (the "
@@ -310,8 +321,8 @@ class HertzSolid(SolidModel):
         ck.solve_chains(
             *self._chains, self._xy, self._load, self._dirty, state.spring_compression,
             state.spring_force, self._mode, self.modulus, cfg.cohesion * self.k0, self.k0,
-            cfg.recontact == "restore", cfg.max_contact_iterations, state.displacement,
-            self.geometric_apertures, state.apertures, self._floor, self._cap,
+            cfg.foundation * self.k0, cfg.recontact == "restore", cfg.max_contact_iterations,
+            state.displacement, self.geometric_apertures, state.apertures, self._floor, self._cap,
             self._at_floor, self._at_cap, self._changed, stats,
         )  # fmt: skip
         if stats[ck.STATS["finite"]] == 0:
@@ -333,7 +344,7 @@ class HertzSolid(SolidModel):
         du, dh, force_new, iterations, unsettled = mk.solve_sparse(
             self._springs, self._axis, self._fixed, self._load, h, force, self._mode,
             self.modulus, cfg.cohesion * self.k0, self.k0, cfg.recontact == "restore",
-            cfg.max_contact_iterations,
+            cfg.max_contact_iterations, state.displacement, cfg.foundation * self.k0,
         )  # fmt: skip
         largest, finite = mk.apply_update(
             dh, force_new, du, h, force, state.displacement, self.geometric_apertures,
@@ -342,7 +353,10 @@ class HertzSolid(SolidModel):
         if not finite:
             raise self._numerical_error(state, "displacement or force")
         self.n_removed = int(np.count_nonzero(self._mode == mk.OPEN))
-        residual = mk.balance_residual(self._load, force, self._springs, self._axis, self._fixed)
+        k_f = cfg.foundation * self.k0
+        residual = mk.balance_residual(
+            self._load, force, self._springs, self._axis, self._fixed, state.displacement, k_f
+        )
         self._stats[:] = (iterations, unsettled, residual, 0, 0, 0, largest, 1)
 
     @property
@@ -358,6 +372,7 @@ class HertzSolid(SolidModel):
         out: dict[str, Any] = {
             "modulus": self.modulus * sc.pressure,
             "prestrain": self.config.prestrain,
+            "foundation": self.config.foundation,
             "springs_removed": self.n_removed,
             "mechanical_updates": self.updates,
             "mechanics_solver": self.solver,
