@@ -23,6 +23,7 @@ from pathlib import Path
 from porenet.analysis.features import longest_straight_run
 from porenet.analysis.fractal import mass_radius_dimension
 from porenet.analysis.numbers import capillary_number_at
+from porenet.result import RunData
 from porenet.simulation import Simulation
 
 SCENE = Path(__file__).resolve().parents[1] / "scenes" / "fig5.toml"
@@ -59,6 +60,14 @@ def run(
     return time.perf_counter() - t0, result
 
 
+def shape(data: RunData, n: int) -> tuple[float, int]:
+    """A pattern's mass-radius D_f (radii 2a to 0.35 L about the inlet) and its longest
+    straight drained run (pores)."""
+    xy = data.pore_coords / data.pore_size
+    d_f, _, _ = mass_radius_dimension(data.drained, xy, xy[data.order[0]], 4.0, 0.35 * 2 * n)
+    return d_f, longest_straight_run(data.as_grid(data.drained))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=400)
@@ -81,9 +90,7 @@ def main() -> None:
         out = None if args.runs is None else args.runs / f"fig5-{label.replace(' ', '')}.h5"
         wall, res = run(args.n, nf, out, args.aperture_cap, args.foundation, args.seed)
         data = res.data
-        xy = data.pore_coords / data.pore_size
-        centre = xy[data.order[0]]
-        d_f, _, _ = mass_radius_dimension(data.drained, xy, centre, 4.0, 0.35 * 2 * args.n)
+        d_f, straight = shape(data, args.n)
         row = {
             "label": label,
             "nf": nf,
@@ -92,7 +99,7 @@ def main() -> None:
             "removed": res.summary.get("springs_removed", 0),
             "steps": res.summary["time_steps"],
             "updates": res.summary.get("mechanical_updates", 0),
-            "straight": longest_straight_run(data.as_grid(data.drained)),
+            "straight": straight,
             "d_f": d_f,
             "data": data,
         }
