@@ -154,70 +154,6 @@ def _row_flux(
 
 
 @njit
-def grid_row(
-    n: int,
-    box: np.ndarray,
-    i: int,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    inv_vol: np.ndarray,
-    y1: np.ndarray,
-    y2: np.ndarray,
-    f0: np.ndarray,
-    coef: tuple[float, float, float, float],
-    out: np.ndarray,
-    flux_only: bool,
-    total_out: float,
-) -> float:
-    """Row ``i`` of :func:`grid_stage` (the pores ``[i n + box[2], i n + box[3])``): returns
-    ``total_out`` plus the row's outflow rate, added term by term (one running sum over the
-    rows, so the total has the same bits as a sweep of the whole box). A function of its own
-    so that a caller can finish a row while it is in the cache
-    (:func:`porenet.kernels.rkc_step.error_estimate`)."""
-    c1, c2, ce, cf = coef
-    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
-    vertical = n * (n - 1)
-    row = i * n
-    up, down = i > i0, i < i1 - 1
-    outlet = i == 0 or i == n - 1
-    a, b = row + j0 + 1, row + j1 - 1
-    if b > a:
-        h = i * (n - 1) + j0
-        above = vertical + a - n if up else vertical + a
-        below = vertical + a if down else vertical + a - n
-        pu = y1[a - n : b - n] if up else y1[a:b]
-        pd = y1[a + n : b + n] if down else y1[a:b]
-        if flux_only:
-            _row_flux(
-                y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
-                g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
-                g_eff[above : above + b - a], g_eff[below : below + b - a],
-                up, down, outlet, g_out[a:b], out[a:b],
-            )  # fmt: skip
-        else:
-            _row_stage(
-                y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
-                g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
-                g_eff[above : above + b - a], g_eff[below : below + b - a],
-                up, down, outlet, g_out[a:b], inv_vol[a:b], y2[a:b], f0[a:b],
-                c1, c2, ce, cf, out[a:b],
-            )  # fmt: skip
-        if outlet:  # the outlet's pores inside the run (a sequential sum)
-            for k in range(a, b):
-                total_out += g_out[k] * y1[k]
-    for k in (row + j0, row + j1 - 1):
-        total = grid_flux(n, box, k, y1, g_eff, g_out)
-        if flux_only:
-            out[k] = total
-        else:
-            out[k] = c1 * y1[k] + c2 * y2[k] + (ce * total + cf * f0[k]) * inv_vol[k]
-        total_out += g_out[k] * y1[k]
-        if j1 - j0 == 1:
-            break
-    return total_out
-
-
-@njit
 def grid_stage(
     n: int,
     box: np.ndarray,
@@ -235,12 +171,49 @@ def grid_stage(
     cf f0) / V`` (``coef = (c1, c2, ce, cf)``), or with ``flux_only`` ``out = L y1``
     (volumetric; ``L y`` is the Darcy flux into each pore, ``F_E``). Neighbours outside the box
     do not count, as in :func:`porenet.kernels.diffusion.grid_sweep`. Returns the outflow
-    rate ``sum g_out y1``, row by row (:func:`grid_row`)."""
+    rate ``sum g_out y1``."""
+    c1, c2, ce, cf = coef
+    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
+    vertical = n * (n - 1)
     total_out = 0.0
-    for i in range(box[0], box[1]):
-        total_out = grid_row(
-            n, box, i, g_eff, g_out, inv_vol, y1, y2, f0, coef, out, flux_only, total_out
-        )
+    for i in range(i0, i1):
+        row = i * n
+        up, down = i > i0, i < i1 - 1
+        outlet = i == 0 or i == n - 1
+        a, b = row + j0 + 1, row + j1 - 1
+        if b > a:
+            h = i * (n - 1) + j0
+            above = vertical + a - n if up else vertical + a
+            below = vertical + a if down else vertical + a - n
+            pu = y1[a - n : b - n] if up else y1[a:b]
+            pd = y1[a + n : b + n] if down else y1[a:b]
+            if flux_only:
+                _row_flux(
+                    y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
+                    g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
+                    g_eff[above : above + b - a], g_eff[below : below + b - a],
+                    up, down, outlet, g_out[a:b], out[a:b],
+                )  # fmt: skip
+            else:
+                _row_stage(
+                    y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
+                    g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
+                    g_eff[above : above + b - a], g_eff[below : below + b - a],
+                    up, down, outlet, g_out[a:b], inv_vol[a:b], y2[a:b], f0[a:b],
+                    c1, c2, ce, cf, out[a:b],
+                )  # fmt: skip
+            if outlet:  # the outlet's pores inside the run (a sequential sum)
+                for k in range(a, b):
+                    total_out += g_out[k] * y1[k]
+        for k in (row + j0, row + j1 - 1):
+            total = grid_flux(n, box, k, y1, g_eff, g_out)
+            if flux_only:
+                out[k] = total
+            else:
+                out[k] = c1 * y1[k] + c2 * y2[k] + (ce * total + cf * f0[k]) * inv_vol[k]
+            total_out += g_out[k] * y1[k]
+            if j1 - j0 == 1:
+                break
     return total_out
 
 

@@ -66,7 +66,7 @@ from porenet.kernels.menisci import (
     invader_pressure,
     meniscus_fluxes,
 )
-from porenet.kernels.rkc_step import error_estimate, imex_stages, implicit_rate, pump_rate
+from porenet.kernels.rkc_step import imex_stages, implicit_rate, pump_rate, step_error
 from porenet.kernels.viscous import STATUS, _list_meniscus, _other, explicit_advance
 
 #: Slots of the ``ctrl`` array (the integrator's memory between calls, and its counters).
@@ -348,7 +348,8 @@ def rkc_advance(
             i = on_p[s]
             if head[i] == s:
                 fi[i] = implicit_rate(i, q0, head, nxt) + implicit_rate(i, qs, head, nxt)
-        out_s, err, stored, largest = error_estimate(h, field, ds, f0, fnew, fi, vol)
+        out_s = sweep(field, ds, ds, f0, (0.0, 0.0, 0.0, 0.0), fnew, True)
+        err, stored, largest = step_error(h, field, ds, f0, fnew, fi, vol)
         for s in range(n_on):
             fi[on_p[s]] = 0.0
         fiinv = pump_rate(control, q_rate, capacity_now, ramp_rate, qsum0)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit
-from porenet.kernels.chebyshev import coefficients, grid_row, sweep
+from porenet.kernels.chebyshev import coefficients, sweep
 from porenet.kernels.menisci import (
     CONTROL_PRESSURE,
     CONTROL_RAMP,
@@ -186,49 +186,8 @@ def imex_stages(
     return k
 
 
-@njit(helper=True)
-def _row_error(
-    h: float,
-    ds: np.ndarray,
-    f0: np.ndarray,
-    fnew: np.ndarray,
-    fi: np.ndarray,
-    inv_vol: np.ndarray,
-    e: np.ndarray,
-) -> None:
-    """Over aligned views of a run of pores, with ``fnew = L ds`` on entry: ``fnew += f0``
-    (``F_E(y_n+1)``) and ``e = |-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|``, ``F`` being
-    ``F_E`` plus ``fi``. No reduction, so a SIMD loop; the maxima are taken on ``e`` after it
-    (:func:`_largest_bits`), the sum of the stored volume in its own sequential loop."""
-    for j in range(ds.size):
-        fnew[j] += f0[j]
-        e[j] = abs(-0.8 * ds[j] + 0.4 * h * (f0[j] + fnew[j] + fi[j]) * inv_vol[j])
-
-
-@njit(helper=True)
-def _largest_bits(x: np.ndarray, top: int) -> int:
-    """The largest of ``top`` and the bit patterns of ``|x|`` read as int64. Non-negative
-    doubles are ordered as their bit patterns, so this is ``max |x|`` exactly (as
-    ``top``'s bits), in any order: a SIMD integer loop where a floating-point ``max``
-    reduction stays sequential (it cost ~0.1 ms per pass over a 400 x 400 box). A NaN counts
-    as larger than any number, so it ends as the result (and the step as non-finite)."""
-    bits = x.view(np.int64)
-    for j in range(bits.size):
-        top = max(top, bits[j] & 0x7FFFFFFFFFFFFFFF)
-    return top
-
-
-@njit(helper=True)
-def _row_stored(vol: np.ndarray, ds: np.ndarray, stored: float) -> float:
-    """``stored + sum V ds`` over a run, term by term in index order (the running sum over
-    the whole field has the bits it had as one loop)."""
-    for j in range(ds.size):
-        stored += vol[j] * ds[j]
-    return stored
-
-
 @njit
-def error_estimate(
+def step_error(
     h: float,
     field: tuple,
     ds: np.ndarray,
@@ -236,38 +195,29 @@ def error_estimate(
     fnew: np.ndarray,
     fi: np.ndarray,
     vol: np.ndarray,
-) -> tuple[float, float, float, float]:
-    """The end of a step, in one pass over the active pores of ``field`` (``ds = y_n+1 -
-    y_n``): ``fnew = F_E(y_n+1) = f0 + L ds``; returns the outflow rate ``sum g_out ds``,
-    ``max |-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (``F`` is ``F_E`` plus ``fi`` at the
-    menisci's pores), the stored volume change ``sum V ds`` and ``max |ds|``.
-
-    On grids each row is finished while it is in the cache: its stencil (:func:`grid_row`),
-    then the estimate, the maxima and the stored volume. The values are those of a full
-    sweep followed by a pass over ``fnew``, to the bit."""
+) -> tuple[float, float, float]:
+    """Over the active pores, with ``ds = y_n+1 - y_n`` and ``fnew = L ds`` on entry (turned
+    into ``F_E(y_n+1) = f0 + L ds``): ``max |-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (``F``
+    is ``F_E`` plus ``fi`` at the menisci's pores), the stored volume change ``sum V ds`` and
+    ``max |ds|``."""
     grid_n, box, na, act = field[0], field[1], field[2], field[3]
     inv_vol = field[10]
-    out = 0.0
-    if grid_n == 0:
-        out = sweep(field, ds, ds, f0, (0.0, 0.0, 0.0, 0.0), fnew, True)
-    e = np.empty(box[3] - box[2] if grid_n > 0 else 1)
-    err_bits = largest_bits = 0
+    err = 0.0
     stored = 0.0
+    largest = 0.0
     count = (box[1] - box[0]) if grid_n > 0 else na
     for r in range(count):
         if grid_n > 0:
-            i = box[0] + r
-            out = grid_row(grid_n, box, i, field[8], field[9], inv_vol, ds, ds, f0,
-                           (0.0, 0.0, 0.0, 0.0), fnew, True, out)  # fmt: skip
-            lo = i * grid_n + box[2]
+            lo = (box[0] + r) * grid_n + box[2]
             hi = lo + box[3] - box[2]
         else:
             lo = act[r]
             hi = lo + 1
-        er = e[: hi - lo]
-        _row_error(h, ds[lo:hi], f0[lo:hi], fnew[lo:hi], fi[lo:hi], inv_vol[lo:hi], er)
-        err_bits = _largest_bits(er, err_bits)
-        largest_bits = _largest_bits(ds[lo:hi], largest_bits)
-        stored = _row_stored(vol[lo:hi], ds[lo:hi], stored)
-    maxima = np.array([err_bits, largest_bits]).view(np.float64)
-    return out, maxima[0], stored, maxima[1]
+        for k in range(lo, hi):
+            fnew[k] += f0[k]
+            change = ds[k]
+            e = abs(-0.8 * change + 0.4 * h * (f0[k] + fnew[k] + fi[k]) * inv_vol[k])
+            err = max(err, e)
+            stored += vol[k] * change
+            largest = max(largest, abs(change))
+    return err, stored, largest
