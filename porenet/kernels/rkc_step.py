@@ -67,6 +67,15 @@ def stage_solve(
     return pnew
 
 
+@njit(helper=True)
+def _row_scaled(f: np.ndarray, inv_vol: np.ndarray, dt: float, out: np.ndarray) -> None:
+    """``out = dt f / V`` over aligned views of a run of pores: the index is the loop
+    counter, so no sign test and the loop compiles to SIMD instructions (indexing the full
+    arrays with ``i * n + j`` does not, and took as long as a stage sweep at n = 400)."""
+    for j in range(f.size):
+        out[j] = dt * f[j] * inv_vol[j]
+
+
 @njit
 def _scaled_rate(field: tuple, f: np.ndarray, dt: float, out: np.ndarray) -> None:
     """``out = dt f / V`` over the active pores of ``field`` (the first stage's increment)."""
@@ -74,8 +83,8 @@ def _scaled_rate(field: tuple, f: np.ndarray, dt: float, out: np.ndarray) -> Non
     inv_vol = field[10]
     if grid_n > 0:
         for i in range(box[0], box[1]):
-            for k in range(i * grid_n + box[2], i * grid_n + box[3]):
-                out[k] = dt * f[k] * inv_vol[k]
+            a, b = i * grid_n + box[2], i * grid_n + box[3]
+            _row_scaled(f[a:b], inv_vol[a:b], dt, out[a:b])
     else:
         for s in range(na):
             k = act[s]
