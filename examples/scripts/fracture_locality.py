@@ -106,13 +106,12 @@ def draw(rows: list[dict[str, float]], n: int, out: Path) -> None:
     fig = Figure(figsize=(9.0, 3.6), dpi=130, layout="constrained")
     left, right = fig.subplots(1, 2, sharey=True)
     for i, foundation in enumerate(sorted({r["foundation"] for r in rows})):
-        style = {"marker": "o", "ms": 4, "capsize": 2, "color": f"C{i}", "label": None}
-        mine = [r for r in rows if r["foundation"] == foundation]
         label = f"k_f = {foundation:g} K_0" if foundation else "no foundation (paper)"
+        style = {"marker": "o", "ms": 4, "capsize": 2, "color": f"C{i}", "label": label}
+        mine = [r for r in rows if r["foundation"] == foundation]
         nf = [r["nf"] for r in mine]
         d_f = [r["d_f"] for r in mine]
         sd = [r["d_f_sd"] for r in mine]
-        style["label"] = label
         left.errorbar(nf, d_f, yerr=sd, **style)
         if foundation:
             x = [v / math.sqrt(foundation) for v in nf]

@@ -309,11 +309,14 @@ def solve_sparse(
     row, col = row[keep], col[keep]
     coef, spring = np.concatenate(coefs)[keep], np.concatenate(springs)[keep]
     size = 2 * free.size
+    foundation_load, diagonal = None, np.zeros(0)
     if foundation_stiffness > 0.0:
         if displacement is None:
             raise ValueError("solve_sparse: a foundation needs the current displacement")
         row = np.concatenate([row, np.arange(size)])
         col = np.concatenate([col, np.arange(size)])  # k_f on the diagonal, after the springs
+        diagonal = np.full(size, foundation_stiffness)
+        foundation_load = foundation_stiffness * displacement  # fixed within the update
     tangent = hertz_stiffness(h, modulus)
     k, b = np.empty_like(h), np.empty_like(h)
     local = mode.copy()
@@ -322,13 +325,9 @@ def solve_sparse(
     while True:
         iterations += 1
         _contact_laws(local, h, force, tangent, cohesion_stiffness, contact_stiffness, k, b)
-        rhs_full = load.copy()
+        rhs_full = load.copy() if foundation_load is None else load - foundation_load
         add_spring_loads(b, spring_particles, axis, rhs_full)
-        values = k[spring] * coef
-        if foundation_stiffness > 0.0:
-            assert displacement is not None
-            rhs_full -= foundation_stiffness * displacement
-            values = np.concatenate([values, np.full(size, foundation_stiffness)])
+        values = np.concatenate([k[spring] * coef, diagonal])
         matrix = coo_matrix((values, (row, col)), shape=(size, size)).tocsc()
         x = splu(matrix).solve(rhs_full[free].ravel())
         du[:] = 0.0
