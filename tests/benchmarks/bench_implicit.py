@@ -4,6 +4,8 @@
     python tests/benchmarks/bench_implicit.py --n 50 --ca 1e-4 1e-6 --integrator implicit rkc
     python tests/benchmarks/bench_implicit.py --n 400 --ca 1e-5 --integrator rkc --max-drained 1500
     python tests/benchmarks/bench_implicit.py --profile --ca 1e-5 --integrator implicit
+    python tests/benchmarks/bench_implicit.py --n 400 --ca 1e-5 --integrator rkc --max-drained 300 \
+        --tolerance 0.3 1e-2 1e-3
 
 Each run is the scene ``{"seed": 1, "lattice": {"n": n, "disorder": 0.3, "pore_size": 1e-7},
 "fluid": {"kind": "viscous", "capillary_number": Ca, "integrator": ...}, "stop": {"at":
@@ -14,12 +16,14 @@ warmed first, on a 10 x 10 scene), time steps, drained pores, steps per drained 
 for the implicit integrator the linear solves and factorisations per drained pore and the
 rejected steps, for RKC the stage sweeps per drained pore (with the explicit steps it takes
 near landings: "sweeps/pore"). ``--max-drained`` stops each run after that many drained pores
-(a sample of a long run). ``--profile`` prints where an integrator spends its time.
+(a sample of a long run); ``--tolerance`` runs each scene at each ``fluid.tolerance`` given
+(rkc and implicit). ``--profile`` prints where an integrator spends its time.
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import multiprocessing as mp
 import time
@@ -27,15 +31,23 @@ from typing import Any
 
 
 def scene(
-    n: int, ca: float, integrator: str, seed: int = 1, max_drained: int | None = None
+    n: int,
+    ca: float,
+    integrator: str,
+    seed: int = 1,
+    max_drained: int | None = None,
+    tolerance: float | None = None,
 ) -> dict[str, Any]:
     stop: dict[str, Any] = {"at": "breakthrough"}
     if max_drained:
         stop["max_drained"] = max_drained
+    fluid: dict[str, Any] = {"kind": "viscous", "capillary_number": ca, "integrator": integrator}
+    if tolerance is not None:
+        fluid["tolerance"] = tolerance
     return {
         "seed": seed,
         "lattice": {"n": n, "disorder": 0.3, "pore_size": 1e-7},
-        "fluid": {"kind": "viscous", "capillary_number": ca, "integrator": integrator},
+        "fluid": fluid,
         "stop": stop,
         "classifier": {"kind": "none"},
     }
@@ -108,32 +120,32 @@ def main() -> None:
     )
     parser.add_argument("--max-drained", type=int, default=None)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--tolerance", type=float, nargs="+", default=[None])
     parser.add_argument("--max-wall", type=float, default=300.0)
     parser.add_argument("--profile", action="store_true")
     args = parser.parse_args()
     print(f"n = {args.n}, seed {args.seed}, lambda = 0.3, to breakthrough")
     print(
-        "integrator  Ca      wall(s)  steps    drained  steps/pore  solves/pore  fact/pore  "
-        "sweeps/pore  rejected  time"
+        "integrator  Ca      tolerance  wall(s)  steps    drained  steps/pore  solves/pore  "
+        "fact/pore  sweeps/pore  rejected  time"
     )
-    for ca in args.ca:
-        for integrator in args.integrator:
-            sc = scene(args.n, ca, integrator, args.seed, args.max_drained)
-            r = run(sc, args.max_wall, args.profile)
-            if r is None:
-                print(f"{integrator:10s}  {ca:<6.0e}  > {args.max_wall:.0f} s (stopped)")
-                continue
-            d = max(r["n_drained"] - 1, 1)  # the inlet drains at t = 0
-            solves = f"{r['solves'] / d:11.1f}" if r["solves"] is not None else " " * 11
-            fact = f"{r['factorizations'] / d:9.1f}" if r["factorizations"] is not None else " " * 9
-            rej = f"{r['rejected']:8d}" if r["rejected"] is not None else " " * 8
-            sweeps = f"{r['sweeps'] / d:11.1f}" if r["sweeps"] is not None else " " * 11
-            print(
-                f"{integrator:10s}  {ca:<6.0e}  {r['wall_s']:7.1f}  {r['steps']:7d}  "
-                f"{r['n_drained']:7d}  {r['steps'] / d:10.1f}  {solves}  {fact}  {sweeps}  "
-                f"{rej}  {r['time']:.4g}",
-                flush=True,
-            )
+    for ca, integrator, tol in itertools.product(args.ca, args.integrator, args.tolerance):
+        sc = scene(args.n, ca, integrator, args.seed, args.max_drained, tol)
+        label = f"{integrator:10s}  {ca:<6.0e}  {'default' if tol is None else f'{tol:g}':9s}"
+        r = run(sc, args.max_wall, args.profile)
+        if r is None:
+            print(f"{label}  > {args.max_wall:.0f} s (stopped)")
+            continue
+        d = max(r["n_drained"] - 1, 1)  # the inlet drains at t = 0
+        solves = f"{r['solves'] / d:11.1f}" if r["solves"] is not None else " " * 11
+        fact = f"{r['factorizations'] / d:9.1f}" if r["factorizations"] is not None else " " * 9
+        rej = f"{r['rejected']:8d}" if r["rejected"] is not None else " " * 8
+        sweeps = f"{r['sweeps'] / d:11.1f}" if r["sweeps"] is not None else " " * 11
+        print(
+            f"{label}  {r['wall_s']:7.1f}  {r['steps']:7d}  {r['n_drained']:7d}  "
+            f"{r['steps'] / d:10.1f}  {solves}  {fact}  {sweeps}  {rej}  {r['time']:.4g}",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":
