@@ -1,0 +1,104 @@
+"""Diagnostic: how far from the newest landing an RKC step's local error reaches (not a test).
+
+    python tests/benchmarks/error_locality.py                       # n = 400, Ca = 1e-5, 1000
+    python tests/benchmarks/error_locality.py --drained 3000 --steps 8 30 100
+
+Runs the scene of ``bench_implicit.py`` (seed 1, lambda = 0.3, ``integrator = "rkc"``) until
+``--drained`` pores have drained (the run stops just after a landing), then, from that state,
+computes one RKC step of each length in ``--steps`` (:func:`porenet.kernels.rkc_step.
+imex_stages`, the step's stage count by :func:`porenet.kernels.chebyshev.stage_count`) and the
+RKC local error estimate of every pore, ``|-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (as
+:func:`porenet.kernels.rkc_step.step_error`, without the menisci's implicit part). Prints, for
+each step, how many pores exceed the tolerance (``fluid.tolerance`` times the entry-pressure
+spread) and 5 % of it, and their largest lattice (Manhattan) distance from the pore that just
+drained: the radius a window around the newest landing would need for the rest of the lattice
+to take that step within the tolerance. Nothing is written back into the run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_implicit import scene
+
+from porenet.kernels.chebyshev import stage_count, sweep
+from porenet.kernels.menisci import meniscus_fluxes
+from porenet.kernels.rkc import _list_candidates
+from porenet.kernels.rkc_step import imex_stages
+from porenet.simulation import Simulation
+
+ZERO = (0.0, 0.0, 0.0, 0.0)
+
+
+def step_errors(fl, drained: np.ndarray, h: float) -> tuple[np.ndarray, int, int]:
+    """Per-pore error estimate of one RKC step of ``h`` from the fluid's state (copies only),
+    the stage count and the number of candidate menisci."""
+    cnt, acc = fl._cnt, fl._acc
+    n_thr, n_p = len(fl._pe), len(fl._p)
+    inv_vol = 1.0 / fl._vol
+    p, f0, scratch = fl._p.copy(), np.zeros(n_p), np.zeros(n_p)
+    field = (fl._grid_n, fl._box, cnt[3], fl._act, fl._apos, *fl._csr, fl._g_eff, fl._g_out,
+             inv_vol, scratch)  # fmt: skip
+    m = stage_count(h, fl.spectral_radius)
+    out0 = sweep(field, p, p, f0, ZERO, f0, True)
+    head = np.full(n_p, -1, dtype=np.int64)
+    cand, near = np.zeros(n_thr, dtype=np.bool_), np.empty(n_thr, dtype=np.int64)
+    menisci0 = (fl._on_t.copy(), fl._on_p.copy(), np.empty(n_thr), head,
+                np.empty(n_thr, dtype=np.int64), p, f0, fl._vol, fl._g_num, fl._ell.copy(),
+                fl._area)  # fmt: skip
+    capacity = fl._capacity + fl._capacity_per_drained * acc[7]
+    pump0 = (fl._control, acc[1], fl._q, capacity, fl._ramp)
+    n_on = _list_candidates(h, menisci0, pump0, fl._front, int(cnt[2]), fl._tp, drained, fl._pe,
+                            fl._latched.copy(), fl.config.meniscus == "latching", inv_vol, cand,
+                            near)  # fmt: skip
+    q0 = np.zeros(n_thr)
+    meniscus_fluxes(fl.dt_stable, n_on, menisci0, pump0, q0)
+    ybuf = np.zeros((3, n_p))
+    k = imex_stages(h, m, field, p, f0, out0, ybuf, np.zeros(n_p), np.zeros(n_p), n_on,
+                    menisci0, pump0, q0, np.zeros((3, n_thr)), np.zeros((3, n_thr)),
+                    np.zeros(3), np.zeros((3, 2)), np.zeros(n_thr),
+                    np.zeros(n_thr, dtype=np.bool_))  # fmt: skip
+    ds = ybuf[k].copy()
+    sweep(field, ds, ds, f0, ZERO, scratch, True)  # scratch = L ds
+    err = np.abs(-0.8 * ds + 0.4 * h * (2.0 * f0 + scratch) * inv_vol)
+    err[menisci0[1][:n_on]] = 0.0  # the candidates' pores: implicit, estimated otherwise
+    return err, m, n_on
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=400)
+    parser.add_argument("--ca", type=float, default=1e-5)
+    parser.add_argument("--drained", type=int, default=1000)
+    parser.add_argument("--steps", type=float, nargs="+", default=[4, 8, 16, 30, 60, 100, 200])
+    args = parser.parse_args()
+    sim = Simulation.from_scene(scene(args.n, args.ca, "rkc", max_drained=args.drained))
+    sim.run()
+    fl = sim.fluid
+    n = fl._grid_n
+    last = int(fl._order[int(fl._cnt[0]) - 1])
+    tol = fl.config.tolerance * fl._pressure_scale
+    print(f"n = {args.n}, Ca = {args.ca:g}, {args.drained} drained, t = {fl._acc[0]:.6g}; "
+          f"distances from pore {last} ({last // n}, {last % n}), tolerance {tol:.3g}")  # fmt: skip
+    print(
+        "step h  stages  candidates  max err/tol  over tol: pores, farthest  "
+        "over 5 %: pores, farthest"
+    )
+    for h in args.steps:
+        err, m, n_on = step_errors(fl, sim.state.drained, h)
+        dist = np.abs(np.arange(n * n) // n - last // n) + np.abs(np.arange(n * n) % n - last % n)
+        cols = []
+        for level in (1.0, 0.05):
+            over = err > level * tol
+            cols.append(f"{over.sum():7d}, {dist[over].max() if over.any() else 0:4d}")
+        print(f"{h:6.1f}  {m:6d}  {n_on:10d}  {err.max() / tol:11.2f}  {cols[0]:>22s}  "
+              f"{cols[1]:>22s}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
