@@ -306,6 +306,7 @@ def solve_chains(
     n_changed = 0
     largest = 0.0
     finite = True
+    k_f = foundation_stiffness
     for c in range(n_chains):
         if not dirty[c]:
             continue
@@ -329,7 +330,6 @@ def solve_chains(
             fl[i] = force[s]
             local[i] = mode[s]
         imbalance = 0.0
-        k_f = foundation_stiffness
         for j in range(n_int):
             q = chain_particles[p0 + j + 1]
             fp[j] = (load[q, ax] - k_f * displacement[q, ax]) * d_sign  # fluid + foundation

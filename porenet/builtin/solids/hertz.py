@@ -341,10 +341,11 @@ class HertzSolid(SolidModel):
             pore_pressure, self._pair_pore, self._pair_particle, self._pair_dir,
             cfg.pressure_area_factor, self._load,
         )  # fmt: skip
+        k_f = cfg.foundation * self.k0
         du, dh, force_new, iterations, unsettled = mk.solve_sparse(
             self._springs, self._axis, self._fixed, self._load, h, force, self._mode,
             self.modulus, cfg.cohesion * self.k0, self.k0, cfg.recontact == "restore",
-            cfg.max_contact_iterations, state.displacement, cfg.foundation * self.k0,
+            cfg.max_contact_iterations, state.displacement, k_f,
         )  # fmt: skip
         largest, finite = mk.apply_update(
             dh, force_new, du, h, force, state.displacement, self.geometric_apertures,
@@ -353,7 +354,6 @@ class HertzSolid(SolidModel):
         if not finite:
             raise self._numerical_error(state, "displacement or force")
         self.n_removed = int(np.count_nonzero(self._mode == mk.OPEN))
-        k_f = cfg.foundation * self.k0
         residual = mk.balance_residual(
             self._load, force, self._springs, self._axis, self._fixed, state.displacement, k_f
         )
