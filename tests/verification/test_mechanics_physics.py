@@ -83,6 +83,20 @@ def test_high_fracturing_number_opens_straight_segments(fluid):
     assert removed.sum() == frac.summary["springs_removed"]
 
 
+def fig5_shape(n, seed, nf, foundation):
+    """Fig. 5's conditions (Ca* = 10, lambda = 0.1, viscous) at n: the run's summary, its
+    mass-radius D_f (radii 2a to 0.35 L, as examples/scripts/fig5.py) and its longest straight
+    drained run."""
+    fluid = {"kind": "viscous", "capillary_number": capillary_number_at(10.0, n, LAM)}
+    res = porenet.run(
+        scene(n=n, fluid=fluid, seed=seed, fracturing_number=nf, foundation=foundation)
+    )
+    data = res.data
+    xy = data.pore_coords / data.pore_size
+    d_f, _, _ = mass_radius_dimension(data.drained, xy, xy[data.order[0]], 4.0, 0.35 * 2 * n)
+    return res.summary, d_f, longest_straight_run(data.as_grid(data.drained))
+
+
 @pytest.mark.parametrize("seed", [1, 2])
 def test_a_local_elastic_response_branches_the_fractures(seed):
     """Fig. 5's conditions at n = 64 (Ca* = 10, lambda = 0.1, N_f = 10): the paper's lattice
@@ -90,19 +104,11 @@ def test_a_local_elastic_response_branches_the_fractures(seed):
     a foundation of K_0 the fractures branch, D_f 1.42 +- 0.014 over seeds 1-4 (the paper's FR:
     1.43), and are still fractures (straight open segments across half the lattice)."""
     n = 64
-    fluid = {"kind": "viscous", "capillary_number": capillary_number_at(10.0, n, LAM)}
     d_f = {}
     for foundation in (0.0, 1.0):
-        res = porenet.run(
-            scene(n=n, fluid=fluid, seed=seed, fracturing_number=10.0, foundation=foundation)
-        )
-        data = res.data
-        xy = data.pore_coords / data.pore_size
-        d_f[foundation], _, _ = mass_radius_dimension(
-            data.drained, xy, xy[data.order[0]], 4.0, 0.35 * 2 * n
-        )
-        assert longest_straight_run(data.as_grid(data.drained)) >= n // 2
-        assert res.summary["foundation"] == foundation
+        summary, d_f[foundation], straight = fig5_shape(n, seed, 10.0, foundation)
+        assert straight >= n // 2
+        assert summary["foundation"] == foundation
     assert d_f[0.0] < 1.1 and d_f[1.0] > 1.3, d_f
 
 
@@ -113,15 +119,7 @@ def test_a_weak_foundation_keeps_the_crossover_near_nf_1():
     N_f = 2 opens cracks across the lattice (D_f 1.12). The branching at N_f = 10 needs the
     larger lattice and is not tested here."""
     n = 64
-    fluid = {"kind": "viscous", "capillary_number": capillary_number_at(10.0, n, LAM)}
-    shape = {}
-    for nf in (1.0, 2.0):
-        data = porenet.run(
-            scene(n=n, fluid=fluid, seed=1, fracturing_number=nf, foundation=0.02)
-        ).data
-        xy = data.pore_coords / data.pore_size
-        d_f, _, _ = mass_radius_dimension(data.drained, xy, xy[data.order[0]], 4.0, 0.35 * 2 * n)
-        shape[nf] = d_f, longest_straight_run(data.as_grid(data.drained))
+    shape = {nf: fig5_shape(n, 1, nf, 0.02)[1:] for nf in (1.0, 2.0)}
     assert shape[1.0][0] > 1.5 and shape[1.0][1] < n // 2, shape
     assert shape[2.0][0] < 1.3 and shape[2.0][1] >= n // 2, shape
 
