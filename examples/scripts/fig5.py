@@ -23,6 +23,8 @@ from pathlib import Path
 from porenet.analysis.features import longest_straight_run
 from porenet.analysis.fractal import mass_radius_dimension
 from porenet.analysis.numbers import capillary_number_at
+from porenet.config.loading import load_scene
+from porenet.core.errors import ConfigError
 from porenet.result import RunData
 from porenet.simulation import Simulation
 
@@ -30,14 +32,13 @@ SCENE = Path(__file__).resolve().parents[1] / "scenes" / "fig5.toml"
 LAMBDA = 0.1
 
 
-def run(
+def make_scene(
     n: int,
     nf: float | None,
-    output: Path | None,
     cap: float | None = None,
     foundation: float | None = None,
     seed: int | None = None,
-) -> tuple[float, object]:
+) -> dict:
     """The scene at n pores per side, Ca* = 10, at fracturing number ``nf`` (None: rigid),
     with the solid's ``aperture_cap`` and ``foundation`` and the scene's seed if given."""
     with SCENE.open("rb") as f:
@@ -54,7 +55,19 @@ def run(
             scene["solid"]["aperture_cap"] = cap
         if foundation is not None:
             scene["solid"]["foundation"] = foundation
-    sim = Simulation.from_scene(scene, output=output)
+    return scene
+
+
+def run(
+    n: int,
+    nf: float | None,
+    output: Path | None,
+    cap: float | None = None,
+    foundation: float | None = None,
+    seed: int | None = None,
+) -> tuple[float, object]:
+    """Run :func:`make_scene`'s scene (to ``output`` if given); its wall time and result."""
+    sim = Simulation.from_scene(make_scene(n, nf, cap, foundation, seed), output=output)
     t0 = time.perf_counter()
     result = sim.run()
     return time.perf_counter() - t0, result
@@ -82,10 +95,16 @@ def main() -> None:
     parser.add_argument("--out", type=Path, help="figure (PNG)")
     parser.add_argument("--table", type=Path, help="markdown table")
     args = parser.parse_args()
+    media = [*args.nf] + ([] if args.no_rigid else [None])
+    for nf in media:  # every scene is checked before the first run starts
+        try:
+            load_scene(make_scene(args.n, nf, args.aperture_cap, args.foundation, args.seed))
+        except ConfigError as exc:
+            parser.error(str(exc))
     if args.runs:
         args.runs.mkdir(parents=True, exist_ok=True)
     rows = []
-    for nf in [*args.nf] + ([] if args.no_rigid else [None]):
+    for nf in media:
         label = "rigid" if nf is None else f"N_f = {nf:g}"
         out = None if args.runs is None else args.runs / f"fig5-{label.replace(' ', '')}.h5"
         wall, res = run(args.n, nf, out, args.aperture_cap, args.foundation, args.seed)

@@ -124,6 +124,14 @@ def main() -> None:
     parser.add_argument("--max-wall", type=float, default=300.0)
     parser.add_argument("--profile", action="store_true")
     args = parser.parse_args()
+    from porenet.config.loading import load_scene
+    from porenet.core.errors import ConfigError
+
+    for ca, integrator, tol in itertools.product(args.ca, args.integrator, args.tolerance):
+        try:  # a bad value is reported here, not as a child process that never answers
+            load_scene(scene(args.n, ca, integrator, args.seed, args.max_drained, tol))
+        except ConfigError as exc:
+            parser.error(str(exc))
     print(f"n = {args.n}, seed {args.seed}, lambda = 0.3, to breakthrough")
     print(
         "integrator  Ca      tolerance  wall(s)  steps    drained  steps/pore  solves/pore  "

@@ -26,6 +26,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_implicit import scene
 
+from porenet.core.errors import ConfigError
 from porenet.kernels.chebyshev import stage_count, sweep
 from porenet.kernels.menisci import meniscus_fluxes
 from porenet.kernels.rkc import _list_candidates
@@ -77,7 +78,12 @@ def main() -> None:
     parser.add_argument("--drained", type=int, default=1000)
     parser.add_argument("--steps", type=float, nargs="+", default=[4, 8, 16, 30, 60, 100, 200])
     args = parser.parse_args()
-    sim = Simulation.from_scene(scene(args.n, args.ca, "rkc", max_drained=args.drained))
+    if args.drained < 2 or min(args.steps) <= 0:
+        parser.error("--drained must be at least 2 and every --steps value positive")
+    try:
+        sim = Simulation.from_scene(scene(args.n, args.ca, "rkc", max_drained=args.drained))
+    except ConfigError as exc:
+        parser.error(str(exc))
     sim.run()
     fl = sim.fluid
     n = fl._grid_n

@@ -26,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_implicit import scene
 
 from porenet.builtin.fluids.viscous import MENISCUS_LENGTH
+from porenet.core.errors import ConfigError
 from porenet.simulation import Simulation
 
 
@@ -61,7 +62,12 @@ def main() -> None:
     parser.add_argument("--skip", type=int, default=50, help="drained pores left out (start)")
     parser.add_argument("--show", type=int, default=0, help="steps to print one by one")
     args = parser.parse_args()
-    a = trace(args.n, args.ca, args.drained, args.tolerance)
+    if not 0 <= args.skip < args.drained - 1:
+        parser.error("--skip must be at least 0 and below --drained - 1")
+    try:
+        a = trace(args.n, args.ca, args.drained, args.tolerance)
+    except ConfigError as exc:
+        parser.error(str(exc))
     a = a[a[:, 7] >= args.skip]
     h, m, explicit = a[:, 1] - a[:, 0], a[:, 2], a[:, 3] > 0
     pores = a[-1, 7] - a[0, 7]
