@@ -157,6 +157,7 @@ def _row_flux(
 def grid_stage(
     n: int,
     box: np.ndarray,
+    nbox: np.ndarray,
     g_eff: np.ndarray,
     g_out: np.ndarray,
     inv_vol: np.ndarray,
@@ -170,15 +171,18 @@ def grid_stage(
     """Canonical n x n grids, over the box of active pores: ``out = c1 y1 + c2 y2 + (ce L y1 +
     cf f0) / V`` (``coef = (c1, c2, ce, cf)``), or with ``flux_only`` ``out = L y1``
     (volumetric; ``L y`` is the Darcy flux into each pore, ``F_E``). Neighbours outside the box
-    do not count, as in :func:`porenet.kernels.diffusion.grid_sweep`. Returns the outflow
-    rate ``sum g_out y1``."""
+    ``nbox`` (which holds ``box``: the active pores; ``box`` itself when the whole of it is
+    swept) do not count, as in :func:`porenet.kernels.diffusion.grid_sweep`; neighbours
+    outside ``box`` but inside ``nbox`` do, with the values ``y1`` holds there (a window's
+    ring, :mod:`porenet.kernels.multirate`). Returns the outflow rate ``sum g_out y1`` over
+    ``box``."""
     c1, c2, ce, cf = coef
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
     vertical = n * (n - 1)
     total_out = 0.0
     for i in range(i0, i1):
         row = i * n
-        up, down = i > i0, i < i1 - 1
+        up, down = i > nbox[0], i < nbox[1] - 1
         outlet = i == 0 or i == n - 1
         a, b = row + j0 + 1, row + j1 - 1
         if b > a:
@@ -206,7 +210,7 @@ def grid_stage(
                 for k in range(a, b):
                     total_out += g_out[k] * y1[k]
         for k in (row + j0, row + j1 - 1):
-            total = grid_flux(n, box, k, y1, g_eff, g_out)
+            total = grid_flux(n, nbox, k, y1, g_eff, g_out)
             if flux_only:
                 out[k] = total
             else:
@@ -261,10 +265,13 @@ def sweep(
     flux_only: bool,
 ) -> float:
     """:func:`grid_stage` or :func:`csr_stage` over the active pores of ``field = (grid_n,
-    box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch)``."""
-    grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch = field
+    box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch, nbox)`` (``nbox``
+    is ``box`` except in a window of local time steps, :mod:`porenet.kernels.multirate`)."""
+    grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch, nbox = field
     if grid_n > 0:
-        return grid_stage(grid_n, box, g_eff, g_out, inv_vol, y1, y2, f0, coef, out, flux_only)
+        return grid_stage(
+            grid_n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out, flux_only
+        )
     return csr_stage(na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, y1, y2, f0, coef,
                      out, flux_only, scratch)  # fmt: skip
 

@@ -152,6 +152,7 @@ def _row_interior(
 def grid_sweep(
     n: int,
     box: np.ndarray,
+    nbox: np.ndarray,
     dt: float,
     g_eff: np.ndarray,
     g_out: np.ndarray,
@@ -170,14 +171,18 @@ def grid_sweep(
     volume and the outflow rate (from the pressures at the start of the step).
 
     The interior of each row is one SIMD loop (:func:`_row_interior`); the first and last
-    pore of each row, which lack a neighbour inside the box, are done one by one."""
+    pore of each row, which lack a neighbour inside the box, are done one by one.
+
+    ``nbox`` holds ``box`` and bounds the neighbours that count (``box`` itself but in a
+    window of local time steps, :mod:`porenet.kernels.multirate`, whose ring of pores outside
+    ``box`` is read, not written)."""
     i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
     vertical = n * (n - 1)
     stored = 0.0
     out = 0.0
     for i in range(i0, i1):
         row = i * n
-        up, down = i > i0, i < i1 - 1
+        up, down = i > nbox[0], i < nbox[1] - 1
         a, b = row + j0 + 1, row + j1 - 1  # the interior run of the row: pores [a, b)
         if b > a:
             h = i * (n - 1) + j0  # throat between pores a - 1 and a
@@ -194,15 +199,7 @@ def grid_sweep(
             out += o
         for k in (row + j0, row + j1 - 1):
             pk = p[k]
-            total = -g_out[k] * pk
-            if k > row + j0:
-                total += g_eff[i * (n - 1) + k - row - 1] * (p[k - 1] - pk)
-            if k < row + j1 - 1:
-                total += g_eff[i * (n - 1) + k - row] * (p[k + 1] - pk)
-            if up:
-                total += g_eff[vertical + k - n] * (p[k - n] - pk)
-            if down:
-                total += g_eff[vertical + k] * (p[k + n] - pk)
+            total = grid_flux(n, nbox, k, p, g_eff, g_out)
             pn = pk + dt * (total * inv_vol[k])
             p_next[k] = pn
             out += g_out[k] * pk

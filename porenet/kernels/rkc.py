@@ -68,6 +68,18 @@ from porenet.kernels.menisci import (
 )
 from porenet.kernels.rkc_step import imex_stages, implicit_rate, pump_rate, step_error
 from porenet.kernels.viscous import STATUS, _list_meniscus, _other, explicit_advance
+from porenet.kernels.window import (
+    CUT,
+    CUT_FAR_MENISCUS,
+    FINE,
+    RING_FLUX,
+    book_shadow,
+    cut,
+    far_pressure,
+    inside,
+    ring_increment,
+    set_ring,
+)
 
 #: Slots of the ``ctrl`` array (the integrator's memory between calls, and its counters).
 CTRL = {
@@ -108,20 +120,33 @@ def _list_candidates(
     inv_vol: np.ndarray,
     cand: np.ndarray,
     near: np.ndarray,
+    win: tuple,
+    grid_n: int,
+    t: float,
 ) -> int:
     """The candidate menisci of a step of ``h`` from the state of ``menisci0`` (its ``p``,
     and ``F_E`` as its ``flux``), as :func:`porenet.kernels.viscous.explicit_advance` lists
     them: at or above their threshold (latched ones with threshold 0), then those the invading
     pressure can bring to it within the step, allowing for the pore's own explicit change.
-    Marks them in ``cand``; returns their number."""
+    Marks them in ``cand``; returns their number. In a window only the menisci into its pores
+    are listed; one into a pore outside that is at its threshold at ``t`` (by the
+    extrapolated pressure) ends the macro step: returns -1."""
     on_t, on_p, c_on, head, nxt, p, f0 = menisci0[:7]
     control, pinv, q_rate, capacity, ramp = pump0
     reach = h * max(q_rate / capacity if control == CONTROL_RATE else 0.0, ramp)
+    windowed = win[0][0] == FINE
     n_on = 0
     n_near = 0
     for s in range(nf):
         f = front[s]
         i = _other(tp, drained, f)
+        if windowed and not inside(win[2], grid_n, i):
+            d = pinv - far_pressure(win, i, t)
+            if (latching and latched[f]) or d > pe[f] * (1.0 - 1e-9):
+                _unlist(n_on, on_t, on_p, head, cand)
+                cut(win, CUT_FAR_MENISCUS, i)
+                return -1
+            continue
         d = pinv - p[i]
         if latching and d > pe[f]:
             latched[f] = True
@@ -233,6 +258,9 @@ def rkc_advance(
     max_steps: int,
     stop_at_breakthrough: bool,
     step_budget: int,
+    nbox: np.ndarray,
+    win: tuple,
+    work: tuple,
 ) -> int:
     """Integrate with IMEX RKC steps until ``max_events`` pores drain or another stop.
 
@@ -244,24 +272,37 @@ def rkc_advance(
     the explicit stability limit, ``pressure_scale`` the entry-pressure spread and
     ``tolerance`` the local error allowed per step as a fraction of it. Returns a
     :data:`porenet.kernels.viscous.STATUS` code.
+
+    ``nbox`` is ``box`` and ``win`` a window that is off (:func:`porenet.kernels.window.
+    no_window`), except for the fine integration of a macro step of local time steps
+    (:mod:`porenet.kernels.multirate`): then ``box`` is the window, which does not grow,
+    ``nbox`` the active box, and the integration ends early with
+    :data:`porenet.kernels.window.CUT` when a meniscus outside the window may start or a
+    pore drains near its edge.
+
+    ``work = (head, cand, fi)``: scratch of shapes (N,) int, (M,) bool and (N,) float, -1,
+    False and 0 everywhere on entry and on return (kept by the caller, so that a call, which
+    a macro step of local time steps makes, allocates nothing of size N or M that must be
+    filled).
     """
     n_pores, n_thr = len(p), len(pe)
     events_at_entry, steps_at_entry = cnt[0], cnt[1]
     inv_vol = 1.0 / vol
+    head, cand = work[0], work[1]
+    fi = work[2]  # V (F_I(y_n) + F_I(y_n+1)) at the menisci's pores, for the error
+    # written before they are read, for the step's candidates only
     c_on = np.empty(n_thr)
     nxt = np.empty(n_thr, dtype=np.int64)
-    head = np.full(n_pores, -1, dtype=np.int64)
-    cand = np.zeros(n_thr, dtype=np.bool_)
     near = np.empty(n_thr, dtype=np.int64)
-    q0 = np.zeros(n_thr)
-    qst, lst = np.zeros((3, n_thr)), np.zeros((3, n_thr))
+    q0 = np.empty(n_thr)
+    qst, lst = np.empty((3, n_thr)), np.empty((3, n_thr))
     pst, ast = np.zeros(3), np.zeros((3, 2))
-    r_ell = np.zeros(n_thr)
-    moved = np.zeros(n_thr, dtype=np.bool_)
-    fi = np.zeros(n_pores)  # V (F_I(y_n) + F_I(y_n+1)) at the menisci's pores, for the error
-    rhs = np.zeros(n_pores)  # the stages' right-hand sides at the menisci's pores
+    r_ell = np.empty(n_thr)
+    moved = np.empty(n_thr, dtype=np.bool_)
+    rhs = np.empty(n_pores)  # the stages' right-hand sides at the menisci's pores
     need_f0 = True
     out0 = 0.0
+    windowed = win[0][0] == FINE
     h_next = ctrl[0] if ctrl[0] > 0 else EXPLICIT_SPAN * dt_stable
     while True:
         ctrl[0] = h_next
@@ -278,16 +319,21 @@ def rkc_advance(
         capacity_now = capacity + capacity_per_drained * acc[7]
         h = min(h_next, t_end - t, longest_step(MAX_STAGES, rho))
         # a step spreads the pressure by one pore per stage: grow the box by as much
-        if grid_n > 0 and grow_where_reached(box, grid_n, p, floor, stage_count(h, rho) + 1):
+        if windowed:
+            set_ring(win, p, t)
+        elif grid_n > 0 and grow_where_reached(box, grid_n, p, floor, stage_count(h, rho) + 1):
             need_f0 = True
-        field = (grid_n, box, cnt[3], act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, fnew)
+        field = (grid_n, box, cnt[3], act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, fnew,
+                 nbox)  # fmt: skip
         if need_f0:
             out0 = sweep(field, p, p, f0, (0.0, 0.0, 0.0, 0.0), f0, True)
             need_f0 = False
         menisci0 = (on_t, on_p, c_on, head, nxt, p, f0, vol, g_num, ell, area)
         pump0 = (control, pinv, q_rate, capacity_now, ramp_rate)
         n_on = _list_candidates(h, menisci0, pump0, front, nf, tp, drained, pe, latched,
-                                latching, inv_vol, cand, near)  # fmt: skip
+                                latching, inv_vol, cand, near, win, grid_n, t)  # fmt: skip
+        if n_on < 0:
+            return CUT
         # F_I(y_n): the menisci's fluxes over an explicit-length step; the next landing
         meniscus_fluxes(dt_stable, n_on, menisci0, pump0, q0)
         t_land = np.inf
@@ -307,7 +353,7 @@ def rkc_advance(
                 landing, acc, cnt, order, via, series, dt_max, control, q_rate, capacity,
                 capacity_per_drained, ramp_rate, latching, floor, pressure_step, ell0,
                 1, t_end, max_steps, stop_at_breakthrough,
-                max(min(int(span * dt_stable / dt_max) + 2, left), 1),
+                max(min(int(span * dt_stable / dt_max) + 2, left), 1), nbox, win, head,
             )  # fmt: skip
             ctrl[4] += cnt[1] - before
             ctrl[6] = 0.0  # the controller restarts
@@ -320,7 +366,7 @@ def rkc_advance(
         m = stage_count(h, rho)
         h = min(h, longest_step(m, rho))
         k = imex_stages(h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0,
-                        qst, lst, pst, ast, r_ell, moved)  # fmt: skip
+                        qst, lst, pst, ast, r_ell, moved, win)  # fmt: skip
         ds, ps, qs = ybuf[k], pst[k], qst[k]
         ctrl[1] += m
         ctrl[5] = max(ctrl[5], m)
@@ -336,7 +382,13 @@ def rkc_advance(
         for s in range(nf if reject == 0.0 else 0):
             f = front[s]
             i = _other(tp, drained, f)
-            if not cand[f] and ps - p[i] - ds[i] > pe[f]:
+            if cand[f]:
+                continue
+            if windowed and not inside(win[2], grid_n, i):
+                past = ps - far_pressure(win, i, t + h) > pe[f]
+            else:
+                past = ps - p[i] - ds[i] > pe[f]
+            if past:
                 reject = 0.5
                 break
         for_event = reject > 0.0
@@ -348,6 +400,8 @@ def rkc_advance(
             i = on_p[s]
             if head[i] == s:
                 fi[i] = implicit_rate(i, q0, head, nxt) + implicit_rate(i, qs, head, nxt)
+        if windowed:
+            ring_increment(win, ds, h)
         out_s = sweep(field, ds, ds, f0, (0.0, 0.0, 0.0, 0.0), fnew, True)
         err, stored, largest = step_error(h, field, ds, f0, fnew, fi, vol)
         for s in range(n_on):
@@ -370,6 +424,9 @@ def rkc_advance(
             continue
         # accept
         _add_active(field, ds, p)
+        if windowed:
+            acc[11] += book_shadow(win, m, RING_FLUX)
+            set_ring(win, p, t + h)
         f0, fnew = fnew, f0  # F_E(y_n+1) is the next step's F_E(y_n): swap, do not copy
         out0 += out_s
         for s in range(n_on):

@@ -18,6 +18,7 @@ from porenet.kernels.menisci import (
     meniscus_fluxes,
     pore_after,
 )
+from porenet.kernels.window import FINE, OFF, ring_increment, shadow_stage
 
 
 @njit(helper=True)
@@ -112,18 +113,30 @@ def imex_stages(
     ast: np.ndarray,
     r_ell: np.ndarray,
     moved: np.ndarray,
+    win: tuple,
 ) -> int:
     """The ``m`` stages of an RKC step of ``h`` from ``y_n`` (``p``, ``F_E(y_n) = f0`` with
     outflow rate ``out0``, the menisci's fluxes ``q0``, ``p_inv``, lengths ``ell``). Stage
     ``j`` goes to buffer ``(j - 1) % 3``: ``ybuf`` holds the pores' increments ``W_j - y_n``,
     ``pst`` p_inv, ``qst`` / ``lst`` each candidate's flux and length, ``ast`` the drained and
     outflow volume since ``y_n``. Returns the buffer of ``y_{n+1}``; ``moved[s]`` tells
-    whether candidate ``s`` flowed in any stage."""
+    whether candidate ``s`` flowed in any stage.
+
+    In a window's fine integration (:mod:`porenet.kernels.window`) the ring pores' increments
+    at each stage's time ``c_j h`` are written into the stage buffers before they are swept;
+    in it and in the coarse step over everything the volume each ring throat carries follows
+    the stages (:func:`porenet.kernels.window.shadow_stage`).
+    """
     on_t, on_p, c_on, head, nxt, _p, _f, vol, g_num, ell, area = menisci0
     control, pinv, q_rate, capacity, ramp = pump0
-    inv_vol = field[10]
+    inv_vol, g_eff, g_out = field[10], field[8], field[9]
+    windowed = win[0][0] != OFF
+    dirichlet = win[0][0] == FINE
     mus1, coef = coefficients(m)
     dt_i = h * mus1
+    if windowed:
+        shadow_stage(win, 1, p, g_eff, g_out, p, 0.0, 0.0, 0.0, dt_i)
+    c_prev, c_prev2 = mus1, 0.0  # the stage times of W_{j-1} and W_{j-2} (fractions of h)
     qsum0 = 0.0
     for s in range(n_on):
         qsum0 += q0[s]
@@ -149,6 +162,11 @@ def imex_stages(
         # d_j = mu d_{j-1} + nu d_{j-2} + h mu~ L d_{j-1} + h (mu~ + g~) F_E(y_n)  (d_0 = 0)
         coef_j = (mu, 0.0 if j == 2 else nu, h * mus, h * (mus + gam))
         d2buf = ybuf[prev] if j == 2 else ybuf[prev2]  # (its weight is 0 at j = 2)
+        if dirichlet:
+            ring_increment(win, ybuf[prev], c_prev * h)
+        if windowed:
+            shadow_stage(win, j, ybuf[prev], g_eff, g_out, p, mu, nu, h * mus, h * (mus + gam))
+        c_prev, c_prev2 = mu * c_prev + nu * c_prev2 + mus + gam, c_prev
         out_prev = out0 + sweep(field, ybuf[prev], d2buf, f0, coef_j, dout, False)
         w0i = h * (gam - c0 * mus1)  # weight of F_I(y_n)
         w2i = -h * nu * mus1  # weight of F_I(W_{j-2})

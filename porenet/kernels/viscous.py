@@ -57,6 +57,17 @@ from porenet.kernels.menisci import (
     pore_after,
     step_change,
 )
+from porenet.kernels.window import (
+    CUT_FAR_MENISCUS,
+    CUT_NEAR_EDGE,
+    FINE,
+    book_explicit,
+    cut,
+    far_pressure,
+    inside,
+    near_open_edge,
+    set_ring,
+)
 
 #: Slots of the ``acc`` array of running totals (scaled units).
 ACC = {
@@ -72,8 +83,11 @@ ACC = {
     # carried from one call to the next, so that a run does not depend on how it is chunked
     "dt_next": 9,  # the step the accuracy limit predicts (inf before the first step)
     "last_rate": 10,  # largest |dp/dt| of the last step (pressure control; inf at first)
+    # local time steps: volume carried out of the window in the current macro step, which
+    # the far field receives (as stored volume or outflow) at its end
+    "in_transit": 11,
 }
-N_ACC = 11
+N_ACC = 12
 
 #: Slots of the ``cnt`` array of counters.
 CNT = {"events": 0, "steps": 1, "n_front": 2, "n_active": 3, "where": 4, "breakthrough": 5}
@@ -207,7 +221,7 @@ def drain_pore(
     series[k, 1] = acc[1]
     series[k, 2] = acc[2]
     series[k, 3] = acc[3]
-    series[k, 4] = acc[4] + acc[8]
+    series[k, 4] = acc[4] + acc[8] + acc[11]
     series[k, 5] = acc[5]
     series[k, 6] = acc[6]
     series[k, 7] = k + 1
@@ -262,6 +276,9 @@ def explicit_advance(
     max_steps: int,
     stop_at_breakthrough: bool,
     step_budget: int,
+    nbox: np.ndarray,
+    win: tuple,
+    head: np.ndarray,
 ) -> int:
     """Integrate until ``max_events`` pores drain or another stop (returns a :data:`STATUS` code).
 
@@ -319,6 +336,17 @@ def explicit_advance(
     step_budget : int
         Return (status 0) after this many steps in this call, so the caller can report
         progress and run observers during long stretches without drainage.
+    nbox, win : ndarray of int (4,), tuple
+        ``box`` itself and a window that is off (:func:`porenet.kernels.window.no_window`),
+        except in the fine integration of a macro step of local time steps
+        (:mod:`porenet.kernels.multirate`): then ``box`` is the window (it does not grow),
+        ``nbox`` the active box, the ring around the window is read at each step's start
+        and books the volume it receives, and the call ends with
+        :data:`porenet.kernels.window.CUT` when a meniscus outside the window may start or a
+        pore drains near its edge.
+    head : ndarray of int, shape (N,)
+        Scratch, -1 everywhere on entry and on return (the per-pore links of a step's
+        candidates; kept by the caller so that a call allocates nothing of size N).
     """
     events = 0
     steps_at_entry = cnt[1]
@@ -326,10 +354,10 @@ def explicit_advance(
     # The candidate menisci of a step: thresholds, and per-pore links (head[i] -> nxt ...).
     c_on = np.empty(len(on_t))
     nxt = np.empty(len(on_t), dtype=np.int64)
-    head = np.full(len(p), -1, dtype=np.int64)
     near = np.empty(len(on_t), dtype=np.int64)  # slots in front of menisci near threshold
     last_rate = acc[10]  # largest |dp/dt| of the last step (for the stationarity test)
     dt_next = acc[9]  # the step the accuracy limit predicts
+    windowed = win[0][0] == FINE
     while True:
         acc[9] = dt_next
         acc[10] = last_rate
@@ -347,6 +375,8 @@ def explicit_advance(
         pinv = acc[1]
         capacity_now = capacity + capacity_per_drained * acc[7]
         dt_hi = min(dt_max, t_end - t)
+        if windowed:
+            set_ring(win, p, t)
         if grid_n == 0:
             csr_fluxes(na, act, apos, indptr, nbr, thr, g_eff, g_out, p, flux)
         # The candidate menisci of the step, on_t[:n_on] into pores on_p[:n_on] with
@@ -365,6 +395,14 @@ def explicit_advance(
         for s in range(nf):
             f = front[s]
             i = _other(tp, drained, f)
+            if windowed and not inside(win[2], grid_n, i):
+                # outside the window: the macro step ends before this meniscus may start
+                d = pinv - far_pressure(win, i, t)
+                if (latching and latched[f]) or d > pe[f] - reach:
+                    for r in range(n_on):
+                        head[on_p[r]] = -1
+                    return cut(win, CUT_FAR_MENISCUS, i)
+                continue
             d = pinv - p[i]
             if latching:
                 if d > pe[f]:
@@ -379,7 +417,7 @@ def explicit_advance(
         n_sure = n_on
         if grid_n > 0:  # the grid sweep needs the explicit fluxes of the meniscus pores only
             for s in range(n_on):
-                flux[on_p[s]] = grid_flux(grid_n, box, on_p[s], p, g_eff, g_out)
+                flux[on_p[s]] = grid_flux(grid_n, nbox, on_p[s], p, g_eff, g_out)
         if n_near > 0:
             rise = invader_pressure(dt_hi, n_on, menisci, pump) - pinv
             for r in range(n_near):
@@ -389,8 +427,10 @@ def explicit_advance(
                     n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
             if grid_n > 0:
                 for s in range(n_sure, n_on):
-                    flux[on_p[s]] = grid_flux(grid_n, box, on_p[s], p, g_eff, g_out)
+                    flux[on_p[s]] = grid_flux(grid_n, nbox, on_p[s], p, g_eff, g_out)
         if control == CONTROL_PRESSURE and last_rate * dt_max <= floor:
+            for s in range(n_on):
+                head[on_p[s]] = -1
             return 6
         # Step length: the stability limit, the end time, the accuracy limit, and the first
         # meniscus to land on 0.
@@ -409,8 +449,10 @@ def explicit_advance(
         if grid_n == 0:
             stored, out, largest = csr_update(na, act, dt, p, p_next, flux, vol, g_out)
         else:
-            stored, out = grid_sweep(grid_n, box, dt, g_eff, g_out, vol, inv_vol, p, p_next)
+            stored, out = grid_sweep(grid_n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next)
             largest = 0.0
+            if windowed:
+                acc[11] += book_explicit(win, p, g_eff, dt)
         for s in range(n_on):  # meniscus pores: implicit in the meniscus fluxes
             i = on_p[s]
             if head[i] == s:  # each pore once
@@ -447,7 +489,8 @@ def explicit_advance(
                 p[start + box[2] : start + box[3]] = p_next[start + box[2] : start + box[3]]
         for s in range(n_on):
             head[on_p[s]] = -1
-        spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
+        if not windowed:
+            spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
         acc[3] += qsum * dt
         acc[4] += stored
         acc[5] += out * dt
@@ -472,11 +515,12 @@ def explicit_advance(
                 f2 = on_t[s]
                 if f2 != f and ell[f2] <= tol:
                     completing.append((on_p[s], f2))
+            edge = -1
             for i, f in completing:
                 if drained[i]:
                     continue
                 drain_pore(
-                    i, f, indptr, nbr, thr, vol, ell0, g_eff, g_out, grid_n, box, p, drained,
+                    i, f, indptr, nbr, thr, vol, ell0, g_eff, g_out, grid_n, nbox, p, drained,
                     ell, latched, front, fpos, act, apos, acc, cnt, order, via, series,
                 )  # fmt: skip
                 events += 1
@@ -484,3 +528,7 @@ def explicit_advance(
                     cnt[5] = 1
                     if stop_at_breakthrough:
                         return 1
+                if windowed and near_open_edge(win, nbox, grid_n, i):
+                    edge = i
+            if edge >= 0:
+                return cut(win, CUT_NEAR_EDGE, edge)

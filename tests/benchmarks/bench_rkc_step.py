@@ -29,6 +29,7 @@ from porenet.kernels.menisci import meniscus_fluxes
 from porenet.kernels.rkc import _add_active, _list_candidates, _unlist
 from porenet.kernels.rkc_step import _scaled_rate, imex_stages, step_error
 from porenet.kernels.viscous import _other
+from porenet.kernels.window import no_window
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_implicit import scene
@@ -62,11 +63,11 @@ def _box_checks(reps, box, n, p, floor, margin):
 
 @njit
 def _listings(reps, h, menisci0, pump0, front, nf, tp, drained, pe, latched, latching, inv_vol,
-              cand, near):  # fmt: skip
+              cand, near, win, grid_n, t):  # fmt: skip
     n_on = 0
     for _ in range(reps):
         n_on = _list_candidates(h, menisci0, pump0, front, nf, tp, drained, pe, latched,
-                                latching, inv_vol, cand, near)  # fmt: skip
+                                latching, inv_vol, cand, near, win, grid_n, t)  # fmt: skip
         _unlist(n_on, menisci0[0], menisci0[1], menisci0[3], cand)
     return n_on
 
@@ -79,11 +80,11 @@ def _scalings(reps, field, f0, out):
 
 @njit
 def _stages(reps, h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0, qst,
-            lst, pst, ast, r_ell, moved):  # fmt: skip
+            lst, pst, ast, r_ell, moved, win):  # fmt: skip
     k = 0
     for _ in range(reps):
         k = imex_stages(h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0,
-                        qst, lst, pst, ast, r_ell, moved)  # fmt: skip
+                        qst, lst, pst, ast, r_ell, moved, win)  # fmt: skip
     return k
 
 
@@ -148,7 +149,7 @@ def main() -> None:
     inv_vol = 1.0 / fl._vol
     p, f0, fnew = fl._p.copy(), np.zeros(n_p), np.zeros(n_p)
     field = (fl._grid_n, fl._box, cnt[3], fl._act, fl._apos, *fl._csr, fl._g_eff, fl._g_out,
-             inv_vol, fnew)  # fmt: skip
+             inv_vol, fnew, fl._box)  # fmt: skip
     h = fl._ctrl[0]
     m = stage_count(h, fl.spectral_radius)
     print(f"front {nf} throats, box {fl._box.tolist()}, next step {h:.3g} ({m} stages)")
@@ -162,7 +163,8 @@ def main() -> None:
     pump0 = (fl._control, acc[1], fl._q, capacity, fl._ramp)
     latched = fl._latched.copy()
     listing = (h, menisci0, pump0, fl._front, nf, fl._tp, drained, fl._pe, latched,
-               fl.config.meniscus == "latching", inv_vol, cand, near)  # fmt: skip
+               fl.config.meniscus == "latching", inv_vol, cand, near, no_window(n_p),
+               fl._grid_n, acc[0])  # fmt: skip
     sweep_ms = timed("flux sweep (for scale)", _flux_sweeps, field, p, np.zeros(n_p))
     ybuf = np.zeros((3, n_p))
     stage_ms = timed("stage sweep (for scale)", _stage_sweeps, field, ybuf[0], ybuf[1], f0,
@@ -176,7 +178,8 @@ def main() -> None:
     meniscus_fluxes(fl.dt_stable, n_on, menisci0, pump0, q0)
     stages = (h, m, field, p, f0, out0, ybuf, np.zeros(n_p), np.zeros(n_p), n_on, menisci0,
               pump0, q0, np.zeros((3, n_thr)), np.zeros((3, n_thr)), np.zeros(3),
-              np.zeros((3, 2)), np.zeros(n_thr), np.zeros(n_thr, dtype=np.bool_))  # fmt: skip
+              np.zeros((3, 2)), np.zeros(n_thr), np.zeros(n_thr, dtype=np.bool_),
+              no_window(n_p))  # fmt: skip
     all_ms = timed(f"imex_stages ({m} stages, for scale)", _stages, *stages, reps=20)
     print(f"{'  of which not stage sweeps':44s} {all_ms - (m - 1) * stage_ms:8.4f} ms")
     k = imex_stages(*stages)

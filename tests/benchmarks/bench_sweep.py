@@ -59,7 +59,7 @@ def main() -> None:
     inv_vol = 1.0 / vol
     new = np.zeros_like(p)
     current = median_ms(
-        lambda: diffusion.grid_sweep(n, box, 0.1, g, g_out, vol, inv_vol, p, new), args.repeat
+        lambda: diffusion.grid_sweep(n, box, box, 0.1, g, g_out, vol, inv_vol, p, new), args.repeat
     )
     print(f"grid_sweep, n={n}: {current:.3f} ms ({1e6 * current / n**2:.2f} ns per pore)")
     if args.baseline:

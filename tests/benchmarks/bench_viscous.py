@@ -5,6 +5,8 @@
     python tests/benchmarks/bench_viscous.py --skip-fig1b    # only the Ca = 1e-5 sample
     python tests/benchmarks/bench_viscous.py --skip-fig1b --low-ca-full   # Ca = 1e-5 to
                                                              # breakthrough (default: rkc)
+    python tests/benchmarks/bench_viscous.py --skip-fig1b --low-ca-full \
+        --set fluid.local_steps=off                          # without local time steps
     python tests/benchmarks/bench_viscous.py --skip-fig1b --high-ca       # Ca = 0.1,
                                                              # lambda = 0.55 to breakthrough
 
@@ -21,8 +23,9 @@
   dearest corner for the explicit integrator: a long front, every step ends on a landing):
   wall time, steps, time per step.
 * ``--low-ca-full``: Ca = 1e-5 on the same lattice to breakthrough with the default
-  integrator (``auto``, which picks ``rkc`` there; ``--integrator`` to choose): wall time,
-  steps, stage sweeps and explicit steps, per drained pore.
+  integrator (``auto``, which picks ``rkc`` there, with local time steps; ``--integrator``
+  to choose, ``--set`` for other overrides): wall time, steps, stage sweeps and explicit
+  steps, per drained pore, and the local time steps' counters.
 """
 
 from __future__ import annotations
@@ -90,9 +93,9 @@ def high_ca() -> dict:
             "n_drained": result.summary["n_drained"]}  # fmt: skip
 
 
-def low_ca_full(integrator: str) -> dict:
+def low_ca_full(integrator: str, overrides: list[str]) -> dict:
     sim = Simulation.from_scene(
-        SCENE, ["fluid.capillary_number=1e-5", f"fluid.integrator={integrator}"]
+        SCENE, ["fluid.capillary_number=1e-5", f"fluid.integrator={integrator}", *overrides]
     )
     t0 = time.perf_counter()
     result = sim.run()
@@ -114,6 +117,14 @@ def low_ca_full(integrator: str) -> dict:
                 "rejected_stage_sweeps",
                 "volume_balance_error",
                 "capillary_number_measured",
+                "local_steps",
+                "macro_steps",
+                "macro_cuts",
+                "single_rate_pores",
+                "coarse_stage_sweeps",
+                "coarse_rejected_steps",
+                "window_pore_stages",
+                "coarse_pore_stages",
             )
         },
     }
@@ -132,6 +143,13 @@ def main() -> None:
     parser.add_argument("--low-ca-full", action="store_true")
     parser.add_argument("--high-ca", action="store_true")
     parser.add_argument("--integrator", default="auto")
+    parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="scene override for --low-ca-full, e.g. fluid.local_steps=off (repeatable)",
+    )
     args = parser.parse_args()
     Simulation.from_scene(SCENE, ["lattice.n=20"]).run()  # load the numba cache
     Simulation.from_scene(SCENE, ["lattice.n=20", "fluid.capillary_number=1e-5"]).run()
@@ -151,7 +169,7 @@ def main() -> None:
             f"steps, {r['us_per_step']:.0f} us/step, {r['n_drained']} drained"
         )
     if args.low_ca_full:
-        r = low_ca_full(args.integrator)
+        r = low_ca_full(args.integrator, args.set)
         d = max(r["n_drained"] - 1, 1)
         per = {k: round(r[k] / d, 1) for k in ("time_steps", "stage_sweeps", "explicit_steps")
                if r[k] is not None}  # fmt: skip

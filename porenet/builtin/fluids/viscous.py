@@ -12,6 +12,7 @@ from porenet.config.base import ModelConfig
 from porenet.core.errors import NumericalError
 from porenet.core.interfaces import FluidModel
 from porenet.core.state import State
+from porenet.kernels.window import no_window
 
 #: Length of a new meniscus: the distance between two pore centres, 2a.
 MENISCUS_LENGTH = 2.0
@@ -114,6 +115,21 @@ class ViscousConfig(ModelConfig):
         "per drained pore, rkc beyond, implicit beyond 50 N (N the number of pores: only on "
         "small lattices at very small Ca); docs/accuracy.md, docs/performance.md. All land "
         "menisci exactly on l = 0 and keep the injection reservoir stable.",
+    )
+    local_steps: Literal["auto", "on", "off"] = Field(
+        "auto",
+        description="RKC integrator, rate control, square grids without a coupled solid: "
+        "fine steps only in a window of pores around the menisci that move, one long step "
+        "elsewhere (local time stepping, docs/model.md). 'auto' takes them where they are "
+        "predicted to pay (active box of at least 200 x 200 pores), 'on' wherever they "
+        "apply, 'off' never (every step sweeps the whole box of active pores).",
+    )
+    window_tolerance: float = Field(
+        1.0,
+        gt=0,
+        description="Local time steps: a pore whose error estimate in the long step over "
+        "everything exceeds this fraction of 'tolerance' is integrated with the fine steps "
+        "of the window (-). Smaller is more accurate and slower (docs/accuracy.md).",
     )
     safety_factor: float = Field(
         1.0,
@@ -354,6 +370,10 @@ class ViscousDrainage(FluidModel):
         self._cnt = np.zeros(vk.N_CNT, dtype=np.int64)
         self._order, self._via = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
         self._series = np.zeros((n, len(vk.SERIES)))
+        self._no_window = no_window(n)
+        #: Scratch the kernels keep clean between calls (see rkc_advance's ``work``).
+        self._work = (np.full(n, -1, dtype=np.int64), np.zeros(m, dtype=bool), np.zeros(n))
+        self._local: Any = None  # LocalSteps, built at the first RKC call where they apply
         if self.integrator == "rkc":
             from porenet.kernels import rkc
             from porenet.kernels.chebyshev import spectral_radius
@@ -432,7 +452,8 @@ class ViscousDrainage(FluidModel):
                 self._series, self._dt, self._control, self._q, self._capacity,
                 self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
                 cfg.pressure_floor, self._pressure_step, MENISCUS_LENGTH, budget, t_end,
-                cfg.max_steps, stop.at == "breakthrough", self._step_chunk(),
+                cfg.max_steps, stop.at == "breakthrough", self._step_chunk(), self._box,
+                self._no_window, self._work[0],
             )  # fmt: skip
         self._sync(state)
         if status in (3, 4):
@@ -482,12 +503,48 @@ class ViscousDrainage(FluidModel):
         )  # fmt: skip
 
     def _rkc_advance(self, state: State, budget: int, t_end: float) -> int:
+        if self._local is None and self._local_steps_apply():
+            from porenet.builtin.fluids.local_steps import LocalSteps
+
+            self._local = LocalSteps(
+                self, self.config.window_tolerance, always=self.config.local_steps == "on"
+            )
+        if self._local is not None:
+            return self._local.advance(state, budget, t_end, self._step_chunk())
+        return self._rkc_single(state, budget, t_end)
+
+    def _local_steps_apply(self) -> bool:
+        """Whether this run may take local time steps (``local_steps`` not 'off'): the RKC
+        integrator on a square grid under rate control, without a coupled solid."""
+        return (
+            self.config.local_steps != "off"
+            and self._grid_n > 0
+            and self._control == 0  # rate
+            and self._q > 0
+            and self.step_limit is None
+        )
+
+    def _rkc_window(
+        self, state: State, budget: int, t_end: float, wbox: np.ndarray, win: tuple
+    ) -> int:
+        """The fine integration of one macro step of local time steps: RKC over the window."""
+        return self._rkc_single(state, budget, t_end, wbox, win)
+
+    def _rkc_single(
+        self,
+        state: State,
+        budget: int,
+        t_end: float,
+        wbox: np.ndarray | None = None,
+        win: tuple | None = None,
+    ) -> int:
         from porenet.kernels import rkc
 
         cfg, stop = self.config, self.context.stop
+        box = self._box if wbox is None else wbox
         return rkc.rkc_advance(
             *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
-            self._g_out, self._outlet, self._grid_n, self._box, self._p, state.drained,
+            self._g_out, self._outlet, self._grid_n, box, self._p, state.drained,
             self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
             self._flux, self._p_next, self._on_t, self._on_p, self._landing,
             self._acc, self._cnt, self._order, self._via, self._series,
@@ -496,8 +553,26 @@ class ViscousDrainage(FluidModel):
             self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
             cfg.pressure_floor, self._pressure_step, self._pressure_scale, cfg.tolerance,
             MENISCUS_LENGTH, budget, t_end, cfg.max_steps, stop.at == "breakthrough",
-            self._step_chunk(),
+            self._step_chunk(), self._box, self._no_window if win is None else win, self._work,
         )  # fmt: skip
+
+    def _field(self, box: np.ndarray, scratch: np.ndarray) -> tuple:
+        """The sweep tuple of :func:`porenet.kernels.chebyshev.sweep` over ``box``."""
+        if getattr(self, "_inv_vol", None) is None:
+            self._inv_vol = 1.0 / self._vol
+        return (self._grid_n, box, int(self._cnt[3]), self._act, self._apos, *self._csr,
+                self._g_eff, self._g_out, self._inv_vol, scratch, box)  # fmt: skip
+
+    def _no_menisci(self) -> tuple[tuple, tuple]:
+        """The menisci and pump tuples of :func:`porenet.kernels.rkc_step.imex_stages` for a
+        step with no meniscus listed (the far field of local time steps)."""
+        m, n = len(self._pe), len(self._p)
+        menisci = (self._on_t, self._on_p, np.empty(m), np.full(n, -1, dtype=np.int64),
+                   np.empty(m, dtype=np.int64), self._p, self._f0, self._vol, self._g_num,
+                   self._ell, self._area)  # fmt: skip
+        capacity = self._capacity + self._capacity_per_drained * self._acc[7]
+        pump = (self._control, float(self._acc[1]), self._q, capacity, self._ramp)
+        return menisci, pump
 
     def _step_chunk(self) -> int:
         """Most time steps per kernel call: the coupler's limit (:attr:`step_limit`) if any."""
@@ -661,4 +736,8 @@ class ViscousDrainage(FluidModel):
             out["time_step_s"] = state.time / max(steps, 1) * (sc.time or 0.0)
             for key, slot in _SUMMARY_COUNTERS[self.integrator].items():
                 out[key] = int(self._ctrl[slots[slot]])
+        if self.integrator == "rkc":
+            out["local_steps"] = self._local is not None
+            if self._local is not None:
+                out.update(self._local.stats)
         return out

@@ -106,18 +106,18 @@ def test_grid_and_list_sweeps_agree():
     apos = np.arange(n * n)
     for flux_only in (False, True):
         a, b = np.zeros(n * n), np.zeros(n * n)
-        out_a = grid_stage(n, box, g, g_out, inv_vol, y1, y2, f0, coef, a, flux_only)
+        out_a = grid_stage(n, box, box, g, g_out, inv_vol, y1, y2, f0, coef, a, flux_only)
         out_b = csr_stage(n * n, act, apos, indptr, nbr, thr, g, g_out, inv_vol, y1, y2, f0,
                           coef, b, flux_only, np.zeros(n * n))  # fmt: skip
         np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-13)
         np.testing.assert_allclose(out_a, out_b, rtol=1e-13)
     # the combination itself, against numpy
     flux = np.zeros(n * n)
-    grid_stage(n, box, g, g_out, inv_vol, y1, y2, f0, coef, flux, True)
+    grid_stage(n, box, box, g, g_out, inv_vol, y1, y2, f0, coef, flux, True)
     c1, c2, ce, cf = coef
     expected = c1 * y1 + c2 * y2 + (ce * flux + cf * f0) * inv_vol
     out = np.zeros(n * n)
-    grid_stage(n, box, g, g_out, inv_vol, y1, y2, f0, coef, out, False)
+    grid_stage(n, box, box, g, g_out, inv_vol, y1, y2, f0, coef, out, False)
     np.testing.assert_allclose(out, expected, rtol=1e-13, atol=1e-13)
 
 

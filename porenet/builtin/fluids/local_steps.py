@@ -1,0 +1,435 @@
+"""Macro steps of local time stepping for the viscous model's RKC integrator.
+
+The scheme and its kernels are in :mod:`porenet.kernels.multirate` and
+:mod:`porenet.kernels.window`; this class decides, before each macro step, its length ``H``
+and its window, and books the far field after it. Decisions (measured in
+docs/performance.md and docs/accuracy.md):
+
+* **Where the window goes**: a box around the *hot* pores (pores drained, and pores entered
+  by menisci that moved, within the last :attr:`LocalSteps.memory` macro-step lengths, plus
+  the pores of the menisci now at their threshold), widened by ``R = window_radius sqrt(H
+  rho)`` pores on every side (``sqrt(H rho)`` is, to a factor, the distance in pores the
+  pressure diffuses in ``H``; ``rho`` the spectral radius) and clipped to the active box. A
+  macro step ends early when a pore drains within ``R / 2`` of an edge of the window, or
+  when a meniscus outside it reaches its threshold; the next one is centred again.
+* **The coarse step's menisci**: the injection rate Q as a constant source, shared among the
+  pores of the window's menisci at their threshold (or the one nearest to it).
+* **When there is none**: while the window would cover more than :attr:`max_share` of the
+  active box (early in a run, or when the menisci that move are far apart) the single-rate
+  RKC integrator drains the next pore.
+* **How long**: ``H`` starts at the time a pore takes (``2.8 V / Q``) and follows the RKC
+  controller on the coarse step's error estimate outside the window (a rejected coarse step
+  is redone shorter before the fine integration starts), and the refluxed volumes (the
+  coarse step's blind spot: kept below half the tolerance, as a pressure change).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from porenet.kernels import multirate as mk
+from porenet.kernels.chebyshev import MAX_STAGES, longest_step, stage_count
+from porenet.kernels.diffusion import grow_where_reached
+from porenet.kernels.window import (
+    CUT,
+    CUT_FAR_MENISCUS,
+    FINE,
+    N_RING_F,
+    N_WF,
+    N_WI,
+    RING_COARSE,
+)
+
+#: Candidate windows of a coarse step: their reach beyond the hot pores, as multiples of the
+#: reach the last coarse steps needed.
+LEVELS = (0.6, 0.8, 1.0, 1.25, 1.6, 2.0)
+
+#: Counters reported in ``/summary``.
+STATS = ("macro_steps", "macro_cuts", "single_rate_pores", "coarse_stage_sweeps",
+         "coarse_rejected_steps", "window_pore_stages", "coarse_pore_stages")  # fmt: skip
+
+
+class LocalSteps:
+    """Local time stepping for a :class:`porenet.builtin.fluids.viscous.ViscousDrainage` run
+    with the RKC integrator on a square grid under rate control."""
+
+    #: Largest share of the active box a window may cover before ``H`` is halved.
+    max_share = 0.5
+    #: Hot pores stay hot for this many macro-step lengths.
+    memory = 3.0
+    #: Pores of the window around the hot pores, at least, and around the coarse step's
+    #: pores over the window tolerance.
+    hot_margin = 8
+    error_margin = 2
+    #: Refluxed pressure change allowed, as a fraction of the tolerance.
+    reflux_fraction = 0.5
+    #: Fewest stages of a coarse step worth taking (below, a single-rate step instead).
+    min_stages = 6
+    #: Coarse steps tried for one macro step before a single-rate step is taken instead.
+    max_attempts = 8
+    #: A macro step is taken only if its predicted cost is below this fraction of the
+    #: single-rate steps' (``_worth_it``), and only on an active box of at least
+    #: :attr:`min_box` pores (at n = 100, Ca = 1e-5 the macro steps' fixed costs made the
+    #: run 12 % slower than single-rate steps; at n = 200 they made it 1.4x faster).
+    gain = 0.8
+    min_box = 40_000
+
+    def __init__(self, fluid: Any, window_tolerance: float, always: bool = False) -> None:
+        self.fluid = fluid
+        self.window_tolerance = window_tolerance
+        #: ``local_steps = "on"``: macro steps on active boxes of any size (where the cost
+        #: model predicts a gain).
+        self.always = always
+        n = fluid._grid_n
+        self.n = n
+        n_pores = n * n
+        self.win = self._window_arrays(FINE, 4 * n * (len(LEVELS) + 1), n_pores)
+        self._p1 = np.zeros(n_pores)
+        self._scratch = np.zeros(n_pores)
+        self._ebox = np.zeros(4, dtype=np.int64)
+        self._hot_time: list[float] = []
+        self._hot_pore: list[int] = []
+        self.H = 2.8 * float(np.mean(fluid._vol)) / fluid._q
+        self._fine_rate: float | None = None
+        self._reach = 0.0  # how far the last window reached beyond its hot pores, per sqrt(H)
+        self._kappa = 0.5  # the least reach, per sqrt(H rho) (see _floor)
+        self.stats = dict.fromkeys(STATS, 0)
+        self.last: dict[str, Any] = {}  # the last macro step, for diagnostics
+
+    @staticmethod
+    def _window_arrays(mode: int, entries: int, n_pores: int) -> tuple:
+        wi = np.zeros(N_WI, dtype=np.int64)
+        wi[0] = mode
+        return (
+            wi,
+            np.zeros(N_WF),
+            np.zeros(4, dtype=np.int64),
+            np.zeros((3, entries), dtype=np.int64),
+            np.zeros((N_RING_F, entries)),
+            np.zeros(n_pores),
+            np.zeros(n_pores),
+        )
+
+    # -- where -----------------------------------------------------------------------------
+    def _menisci(self, drained: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The frontier throats, their undrained pores and how far each is below its
+        threshold (``<= 0``: at or above it; latched menisci count as at it)."""
+        f = self.fluid
+        front = f._front[: int(f._cnt[2])]
+        a, b = f._tp[front, 0], f._tp[front, 1]
+        pore = np.where(drained[a], b, a)
+        gap = f._pe[front] * (1.0 - 1e-9) - (f._acc[1] - f._p[pore])
+        if f.config.meniscus == "latching":
+            gap = np.where(f._latched[front], -1.0, gap)
+        return front, pore, gap
+
+    def _hot_box(self, drained: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The box of the hot pores (rows ``[b0, b1)``, columns ``[b2, b3)``) and the coarse
+        step's sources: the pump's rate shared among the pores of the menisci at their
+        threshold, or given to the pore of the one nearest to it."""
+        f, n = self.fluid, self.n
+        t = float(f._acc[0])
+        horizon = t - self.memory * self.H
+        keep = [k for k, s in enumerate(self._hot_time) if s >= horizon]
+        self._hot_time = [self._hot_time[k] for k in keep]
+        self._hot_pore = [self._hot_pore[k] for k in keep]
+        _, pore, gap = self._menisci(drained)
+        sources = np.unique(pore[gap <= 0])
+        if sources.size == 0 and pore.size:
+            sources = pore[np.argmin(gap)][None]
+        last = f._order[int(f._cnt[0]) - 1 :][:1]
+        pores = np.concatenate([np.array(self._hot_pore, dtype=np.int64), sources, last])
+        rows, cols = pores // n, pores % n
+        box = np.array([rows.min(), rows.max() + 1, cols.min(), cols.max() + 1], dtype=np.int64)
+        rates = np.full(sources.size, f._q / max(sources.size, 1))
+        return box, sources.astype(np.int64), rates
+
+    def _grown(self, hot: np.ndarray, reach: int) -> np.ndarray:
+        """The hot box widened by ``reach`` pores, in the active box."""
+        nbox = self.fluid._box
+        return np.array(
+            [
+                max(hot[0] - reach, nbox[0]),
+                min(hot[1] + reach, nbox[1]),
+                max(hot[2] - reach, nbox[2]),
+                min(hot[3] + reach, nbox[3]),
+            ],
+            dtype=np.int64,
+        )
+
+    def _needed(self, hot: np.ndarray, ebox: np.ndarray) -> int:
+        """How far beyond the hot box the window must reach to hold the coarse step's pores
+        over the window tolerance with :attr:`error_margin` to spare (and
+        :attr:`hot_margin` at least)."""
+        if ebox[1] <= ebox[0]:
+            return self.hot_margin
+        far = max(hot[0] - ebox[0], ebox[1] - hot[1], hot[2] - ebox[2], ebox[3] - hot[3])
+        return max(self.hot_margin, int(far) + self.error_margin)
+
+    def _floor(self, h: float) -> int:
+        """The least reach of a window for a coarse step of ``h``: ``kappa sqrt(h rho)``
+        pores (and :attr:`hot_margin`), where the coarse step's stand-in for the menisci has
+        become indistinguishable from them; ``kappa`` follows the refluxed volumes."""
+        r = self._kappa * math.sqrt(h * self.fluid.spectral_radius)
+        return max(self.hot_margin, math.ceil(r))
+
+    def _predicted_reach(self, h: float) -> int:
+        """The window's reach beyond the hot box for a coarse step of ``h``, from what the
+        last ones needed (it grows like ``sqrt(h)``)."""
+        return max(self.hot_margin, math.ceil(self._reach * math.sqrt(h)) + 1)
+
+    # -- one call ---------------------------------------------------------------------------
+    def advance(self, state: Any, budget: int, t_end: float, step_chunk: int) -> int:
+        """Drain up to ``budget`` pores (or take about ``step_chunk`` fine steps) in macro
+        steps; returns a :data:`porenet.kernels.viscous.STATUS` code."""
+        f = self.fluid
+        events0, steps0 = int(f._cnt[0]), int(f._cnt[1])
+        while True:
+            done = int(f._cnt[0]) - events0
+            if done >= budget or int(f._cnt[1]) - steps0 >= step_chunk:
+                return 0
+            if f._acc[0] >= t_end:
+                return 2
+            status = self._macro_step(state, budget - done, t_end)
+            if status is None:  # no window worth it: one pore at a single rate
+                before, t_before = int(f._cnt[0]), float(f._acc[0])
+                sweeps = f._ctrl[1] + f._ctrl[4]
+                status = f._rkc_single(state, 1, t_end)
+                self._learn_fine_rate(f._ctrl[1] + f._ctrl[4] - sweeps, f._acc[0] - t_before)
+                self.stats["single_rate_pores"] += int(f._cnt[0]) - before
+                self._note_drained(before)
+                self.H = max(self.H, 2.0 * f._ctrl[0])
+                if status != 0:
+                    return status
+                continue
+            if status == CUT or (status == 2 and f._acc[0] < t_end):
+                continue
+            if status != 0:
+                return status
+
+    def _coarse(self, state: Any, t_end: float) -> tuple[float, np.ndarray, np.ndarray] | None:
+        """An accepted coarse step and its window: the step's length, the window and the hot
+        box; None when no window below :attr:`max_share` of the active box is found with at
+        least :attr:`min_stages` stages. The ring's shadow sums must run in the coarse step,
+        so they run for several nested candidate windows (:data:`LEVELS` times the reach the
+        last steps needed); the smallest that holds the step's pores over the window
+        tolerance with :attr:`error_margin` to spare is kept, and the step is redone with
+        larger ones when none does."""
+        f, n, win = self.fluid, self.n, self.win
+        wi, ring_i = win[0], win[3]
+        tol = f.config.tolerance * f._pressure_scale
+        rho = f.spectral_radius
+        menisci0, pump0 = f._no_menisci()
+        hot, sources, rates = self._hot_box(state.drained)
+        planned = self._plan(hot)
+        if planned is None:
+            return None
+        h = min(planned, t_end - float(f._acc[0]), longest_step(MAX_STAGES, rho))
+        least = 0
+        for _attempt in range(self.max_attempts):
+            m = stage_count(h, rho)
+            if m < self.min_stages:
+                return None
+            nbox = f._box
+            grow_where_reached(nbox, n, f._p, f.config.pressure_floor, m + 1)
+            limit = self.max_share * (nbox[1] - nbox[0]) * (nbox[3] - nbox[2])
+            floor = self._floor(h)
+            base = max(self._predicted_reach(h), least, floor)
+            reaches = sorted({math.ceil(c * base) for c in LEVELS} | {least})
+            boxes = []
+            for reach in reaches:
+                box = self._grown(hot, max(reach, floor))
+                if (box[1] - box[0]) * (box[3] - box[2]) > limit:
+                    break
+                if not boxes or box.tolist() != boxes[-1].tolist():
+                    boxes.append(box)
+            if not boxes:
+                self.stats["coarse_rejected_steps"] += 1
+                h *= 0.5
+                least = 0
+                continue
+            starts = [0]
+            for box in boxes:
+                starts.append(starts[-1] + mk.window_ring(n, box, nbox, ring_i[:, starts[-1] :]))
+            wi[2] = starts[-1]
+            wi[5] = mk.outlet_links(n, nbox, f._g_out, ring_i, wi[2])
+            win[2][:] = boxes[-1]
+            field = f._field(nbox, self._scratch)
+            outflow = mk.coarse_step(
+                field, f._p, win, h, m, sources, rates, f._ybuf, f._f0, f._fnew, f._zero,
+                self._p1, menisci0, pump0, self.window_tolerance * tol, self._ebox,
+            )  # fmt: skip
+            if not math.isfinite(outflow):
+                raise FloatingPointError(
+                    f"local time steps: non-finite coarse step at t = {f._acc[0]:g}"
+                )
+            self.stats["coarse_stage_sweeps"] += m
+            self.stats["coarse_pore_stages"] += m * int((nbox[1] - nbox[0]) * (nbox[3] - nbox[2]))
+            needed = self._needed(hot, self._ebox)
+            measured = max(needed - 1, 0) / math.sqrt(h)
+            self._reach = measured if self._reach == 0.0 else 0.8 * self._reach + 0.2 * measured
+            want = self._grown(hot, needed)
+            for k, box in enumerate(boxes):
+                if (
+                    box[0] <= want[0]
+                    and box[1] >= want[1]
+                    and box[2] <= want[2]
+                    and (box[3] >= want[3])
+                ):
+                    self._keep_ring(starts[k], starts[k + 1], wi[2], wi[2] + wi[5])
+                    win[2][:] = box
+                    return h, box, hot
+            self.stats["coarse_rejected_steps"] += 1
+            if (want[1] - want[0]) * (want[3] - want[2]) > limit:
+                h *= 0.5  # no window within the share holds the step's errors
+                least = 0
+            else:
+                least = needed
+        return None
+
+    def _keep_ring(self, lo: int, hi: int, out_lo: int, out_hi: int) -> None:
+        """Keep the ring entries ``[lo, hi)`` of the chosen window and the outlet links
+        ``[out_lo, out_hi)`` after them, with their coarse volumes."""
+        wi, ring_i, ring_f = self.win[0], self.win[3], self.win[4]
+        keep = np.r_[lo:hi, out_lo:out_hi]
+        ring_i[:, : keep.size] = ring_i[:, keep]
+        ring_f[RING_COARSE, : keep.size] = ring_f[RING_COARSE, keep]
+        wi[2] = hi - lo
+        wi[5] = out_hi - out_lo
+
+    def _macro_step(self, state: Any, budget: int, t_end: float) -> int | None:
+        f, win = self.fluid, self.win
+        wi = win[0]
+        t0 = float(f._acc[0])
+        coarse = self._coarse(state, t_end)
+        if coarse is None:
+            return None
+        h, wbox, hot = coarse
+        nbox = f._box
+        # a pore that drains within half the hot pores' distance to an open edge ends it
+        gaps = [hot[0] - wbox[0], wbox[1] - hot[1], hot[2] - wbox[2], wbox[3] - hot[3]]
+        wi[1] = max(2, min(gaps) // 2)
+        wi[3] = wi[4] = -1
+        field = f._field(nbox, self._scratch)
+        mk.start_fine(win, f._p, self._p1, field, t0, h)
+        inside = self._window_menisci(state.drained, wbox)
+        ell_before = f._ell[inside].copy()
+        events0 = int(f._cnt[0])
+        stages0, explicit0 = f._ctrl[1], f._ctrl[4]
+        status = f._rkc_window(state, budget, t0 + h, wbox, win)
+        t_e = float(f._acc[0])
+        theta = (t_e - t0) / h
+        stored, far_out, reflux = mk.far_update(
+            field, f._p, self._p1, f._vol, state.drained, win, theta
+        )
+        f._acc[4] += stored
+        f._acc[5] += far_out
+        f._acc[11] = 0.0
+        w_pores = int((wbox[1] - wbox[0]) * (wbox[3] - wbox[2]))
+        fine = f._ctrl[1] - stages0 + f._ctrl[4] - explicit0
+        self.stats["window_pore_stages"] += int(fine * w_pores)
+        self.stats["macro_steps"] += 1
+        self._note_drained(events0)
+        moved = inside[f._ell[inside] != ell_before]
+        if moved.size:
+            self._hot(t_e, f._tp[moved, 0], f._tp[moved, 1], state.drained)
+        if status == CUT:
+            self.stats["macro_cuts"] += 1
+            if wi[3] == CUT_FAR_MENISCUS:
+                self._hot_time.append(t_e)
+                self._hot_pore.append(int(wi[4]))
+        self._learn_fine_rate(fine, t_e - t0)
+        # the window's least reach follows the refluxed change (kept between a quarter and
+        # all of reflux_fraction of the tolerance); next H: at most twice this one and what
+        # the refluxed change (~ H^2) allows, the cheapest length below that
+        tol = f.config.tolerance * f._pressure_scale
+        if reflux > self.reflux_fraction * tol:
+            self._kappa = min(self._kappa * 1.25, 4.0)
+        elif reflux < 0.25 * self.reflux_fraction * tol:
+            self._kappa = max(self._kappa * 0.9, 0.1)
+        fac = 2.0
+        if reflux > 0:
+            fac = min(fac, math.sqrt(self.reflux_fraction * tol / reflux))
+        cap = h * max(fac, 0.2)
+        self.H = min(cap, self._cheapest(cap, hot)[0])
+        self.last = {"h": h, "theta": theta, "reflux": reflux / tol, "status": status,
+                     "window": w_pores, "hot": int((hot[1] - hot[0]) * (hot[3] - hot[2])),
+                     "next": self.H}  # fmt: skip
+        return status
+
+    def _learn_fine_rate(self, sweeps: float, span: float) -> None:
+        """Fine sweeps (RKC stages and explicit steps) per unit of time, smoothed over the
+        last few pores' worth of time: what the window costs per pore it holds."""
+        if span <= 0:
+            return
+        weight = min(1.0, span / (4.0 * self.H))
+        rate = sweeps / span
+        if self._fine_rate is None:
+            self._fine_rate = rate
+        else:
+            self._fine_rate = (1.0 - weight) * self._fine_rate + weight * rate
+
+    def _cheapest(self, cap: float, hot: np.ndarray) -> tuple[float, float]:
+        """The macro-step length up to ``cap`` that minimises the pore updates per unit time,
+        and that cost: the coarse step's stages over the active box per ``H`` plus the fine
+        sweeps over a window whose reach beyond the hot pores grows like ``sqrt(H)`` (windows
+        over :attr:`max_share` of the active box are not an option). ``(cap, inf)`` before
+        the fine sweeps' rate is known."""
+        f = self.fluid
+        if self._fine_rate is None:
+            return cap, math.inf
+        nbox = f._box
+        n_rows, n_cols = int(nbox[1] - nbox[0]), int(nbox[3] - nbox[2])
+        rho = f.spectral_radius
+        best, best_cost = cap, math.inf
+        shortest = longest_step(self.min_stages, rho)
+        for k in range(max(math.ceil(4.0 * math.log2(shortest / cap)), -80), 1):
+            h = cap * 2.0 ** (k / 4.0)
+            r = max(self._predicted_reach(h), self._floor(h))
+            area = min(int(hot[1] - hot[0]) + 2 * r, n_rows) * min(
+                int(hot[3] - hot[2]) + 2 * r, n_cols
+            )
+            if area > self.max_share * n_rows * n_cols:
+                continue
+            cost = stage_count(h, rho) * n_rows * n_cols / h + self._fine_rate * area
+            if cost < best_cost:
+                best, best_cost = h, cost
+        return best, best_cost
+
+    def _plan(self, hot: np.ndarray) -> float | None:
+        """The length of the next macro step, the cheapest up to ``H``; None when a macro step
+        is predicted to cost more than :attr:`gain` times single-rate steps over the whole
+        active box, or the active box is smaller than :attr:`min_box` (unless ``on``)."""
+        f = self.fluid
+        nbox = f._box
+        area = int((nbox[1] - nbox[0]) * (nbox[3] - nbox[2]))
+        if area < self.min_box and not self.always:
+            return None
+        h, cost = self._cheapest(self.H, hot)
+        if self._fine_rate is not None and not cost < self.gain * self._fine_rate * area:
+            return None
+        return h
+
+    def _window_menisci(self, drained: np.ndarray, wbox: np.ndarray) -> np.ndarray:
+        """Frontier throats whose undrained pore lies in the window."""
+        n = self.n
+        front, pore, _ = self._menisci(drained)
+        i, j = pore // n, pore % n
+        ok = (i >= wbox[0]) & (i < wbox[1]) & (j >= wbox[2]) & (j < wbox[3])
+        return front[ok]
+
+    def _hot(self, t: float, a: np.ndarray, b: np.ndarray, drained: np.ndarray) -> None:
+        """Mark the pores entered by the menisci of throats (a, b) hot at ``t``."""
+        pore = np.where(drained[a] & ~drained[b], b, a)
+        self._hot_time.extend([t] * len(pore))
+        self._hot_pore.extend(int(k) for k in pore)
+
+    def _note_drained(self, since: int) -> None:
+        f = self.fluid
+        k = int(f._cnt[0])
+        if k > since:
+            self._hot_time.extend(float(x) for x in f._series[since:k, 0])
+            self._hot_pore.extend(int(x) for x in f._order[since:k])
