@@ -24,6 +24,19 @@ def set_add(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slot: i
 
 
 @njit(helper=True)
+def set_remove(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slot: int) -> None:
+    """Remove ``x`` from the indexed set (the last item takes its place)."""
+    s = pos[x]
+    if s >= 0:
+        last = cnt[slot] - 1
+        moved = items[last]
+        items[s] = moved
+        pos[moved] = s
+        pos[x] = -1
+        cnt[slot] = last
+
+
+@njit(helper=True)
 def activate(j: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray) -> None:
     set_add(j, act, apos, cnt, 3)
 

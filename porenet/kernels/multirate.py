@@ -41,6 +41,7 @@ import numpy as np
 
 from porenet.kernels._jit import njit
 from porenet.kernels.chebyshev import sweep
+from porenet.kernels.diffusion import set_add, set_remove
 from porenet.kernels.rkc_step import imex_stages
 from porenet.kernels.window import (
     COARSE,
@@ -288,4 +289,101 @@ def _deposit(
     return dv
 
 
-__all__ = ["coarse_step", "far_update", "outlet_links", "start_fine", "window_ring"]
+@njit
+def split_front(
+    n: int,
+    wbox: np.ndarray,
+    front: np.ndarray,
+    nf: int,
+    tp: np.ndarray,
+    drained: np.ndarray,
+    wfront: np.ndarray,
+    wfpos: np.ndarray,
+    far: np.ndarray,
+) -> tuple[int, int]:
+    """Split the frontier throats ``front[:nf]`` into those whose meniscus enters a pore of
+    the box ``wbox`` (the window's own front ``wfront``, with ``wfpos`` their slots, -1 for
+    every other throat on entry) and the others (``far``). Returns both counts."""
+    n_w = n_far = 0
+    for s in range(nf):
+        f = front[s]
+        a = tp[f, 0]
+        k = tp[f, 1] if drained[a] else a
+        i = k // n
+        j = k - i * n
+        if wbox[0] <= i < wbox[1] and wbox[2] <= j < wbox[3]:
+            wfront[n_w] = f
+            wfpos[f] = n_w
+            n_w += 1
+        else:
+            far[n_far] = f
+            n_far += 1
+    return n_w, n_far
+
+
+@njit
+def far_level(
+    far: np.ndarray,
+    n_far: int,
+    tp: np.ndarray,
+    drained: np.ndarray,
+    pe: np.ndarray,
+    p0: np.ndarray,
+    rate: np.ndarray,
+    h: float,
+) -> float:
+    """The least invading pressure at which a meniscus of ``far[:n_far]`` reaches its
+    threshold during a macro step of ``h``, its pore's pressure linear in time (``p0``,
+    ``rate``): the minimum of ``pe + min(p0, p0 + h rate)`` (inf if none)."""
+    level = np.inf
+    for s in range(n_far):
+        f = far[s]
+        a = tp[f, 0]
+        i = tp[f, 1] if drained[a] else a
+        level = min(level, pe[f] + min(p0[i], p0[i] + h * rate[i]))
+    return level
+
+
+@njit
+def merge_front(
+    order: np.ndarray,
+    first: int,
+    last: int,
+    indptr: np.ndarray,
+    nbr: np.ndarray,
+    thr: np.ndarray,
+    drained: np.ndarray,
+    front: np.ndarray,
+    fpos: np.ndarray,
+    cnt: np.ndarray,
+    wfront: np.ndarray,
+    n_w: int,
+    wfpos: np.ndarray,
+) -> None:
+    """After a fine integration that drained the pores ``order[first:last]`` with the
+    window's own front: update the global front (``front``, ``fpos``, ``cnt[2]``) as
+    :func:`porenet.kernels.viscous.drain_pore` would have (a throat joining two drained
+    pores leaves it, one from a drained pore to an undrained one joins it), and clear the
+    window front's slots ``wfpos`` of its ``n_w`` throats."""
+    for k in range(first, last):
+        i = order[k]
+        for e in range(indptr[i], indptr[i + 1]):
+            t = thr[e]
+            if drained[nbr[e]]:
+                set_remove(t, front, fpos, cnt, 2)
+            else:
+                set_add(t, front, fpos, cnt, 2)
+    for s in range(n_w):
+        wfpos[wfront[s]] = -1
+
+
+__all__ = [
+    "coarse_step",
+    "far_level",
+    "far_update",
+    "merge_front",
+    "outlet_links",
+    "split_front",
+    "start_fine",
+    "window_ring",
+]

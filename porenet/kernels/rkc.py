@@ -75,6 +75,7 @@ from porenet.kernels.window import (
     RING_FLUX,
     book_shadow,
     cut,
+    far_meniscus,
     far_pressure,
     inside,
     ring_increment,
@@ -135,6 +136,11 @@ def _list_candidates(
     control, pinv, q_rate, capacity, ramp = pump0
     reach = h * max(q_rate / capacity if control == CONTROL_RATE else 0.0, ramp)
     windowed = win[0][0] == FINE
+    if windowed:
+        k = far_meniscus(win, pinv, 1e-8, t, pe, tp, drained)
+        if k >= 0:
+            cut(win, CUT_FAR_MENISCUS, k)
+            return -1
     n_on = 0
     n_near = 0
     for s in range(nf):
@@ -391,6 +397,8 @@ def rkc_advance(
             if past:
                 reject = 0.5
                 break
+        if windowed and reject == 0.0 and far_meniscus(win, ps, 0.0, t + h, pe, tp, drained) >= 0:
+            reject = 0.5  # a meniscus outside the window would start within the step
         for_event = reject > 0.0
         # the error estimate
         qsum0 = qsums = 0.0

@@ -47,6 +47,7 @@ from porenet.kernels.diffusion import (
     grid_sweep,
     grow_box,
     set_add,
+    set_remove,
     spread,
 )
 from porenet.kernels.menisci import (
@@ -63,6 +64,7 @@ from porenet.kernels.window import (
     FINE,
     book_explicit,
     cut,
+    far_meniscus,
     far_pressure,
     inside,
     near_open_edge,
@@ -122,19 +124,6 @@ def _other(tp: np.ndarray, drained: np.ndarray, f: int) -> int:
     """The undrained pore of frontier throat ``f``."""
     a = tp[f, 0]
     return tp[f, 1] if drained[a] else a
-
-
-@njit(helper=True)
-def _set_remove(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slot: int) -> None:
-    """Remove ``x`` from the indexed set (the last item takes its place)."""
-    s = pos[x]
-    if s >= 0:
-        last = cnt[slot] - 1
-        moved = items[last]
-        items[s] = moved
-        pos[moved] = s
-        pos[x] = -1
-        cnt[slot] = last
 
 
 @njit(helper=True)
@@ -200,7 +189,7 @@ def drain_pore(
     acc[7] += vol[i]
     p[i] = acc[1]
     g_out[i] = 0.0
-    _set_remove(i, act, apos, cnt, 3)
+    set_remove(i, act, apos, cnt, 3)
     if grid_n > 0:
         grow_box(box, grid_n, i // grid_n, i % grid_n, 1)
     for e in range(indptr[i], indptr[i + 1]):
@@ -208,7 +197,7 @@ def drain_pore(
         t = thr[e]
         g_eff[t] = 0.0
         if drained[j]:
-            _set_remove(t, front, fpos, cnt, 2)
+            set_remove(t, front, fpos, cnt, 2)
         else:
             ell[t] = ell0
             latched[t] = False
@@ -390,6 +379,10 @@ def explicit_advance(
         pump = (control, pinv, q_rate, capacity_now, ramp_rate)
         # the most the invading pressure can rise in the step (the pump alone)
         reach = dt_hi * max(q_rate / capacity_now if control == CONTROL_RATE else 0.0, ramp_rate)
+        if windowed:  # the macro step ends before a meniscus outside the window may start
+            k = far_meniscus(win, pinv, reach, t, pe, tp, drained)
+            if k >= 0:
+                return cut(win, CUT_FAR_MENISCUS, k)
         n_on = 0
         n_near = 0  # below their threshold by less than reach: near[:n_near]
         for s in range(nf):

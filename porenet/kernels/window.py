@@ -12,7 +12,7 @@ The menisci outside ``W`` are not integrated: their pores' pressures are interpo
 same way, and a macro step ends (status :data:`CUT`) as soon as one of them reaches its
 threshold, or a pore drains near an open edge of ``W``.
 
-The window travels as one tuple ``win = (wi, wf, wbox, ring_i, ring_f, p0, rate)``:
+The window travels as one tuple ``win = (wi, wf, wbox, ring_i, ring_f, p0, rate, far)``:
 
 * ``wi`` (int64, :data:`WI`): the mode, the edge margin, the number of ring throats and of
   outlet links and, after a cut, its reason and pore;
@@ -22,7 +22,11 @@ The window travels as one tuple ``win = (wi, wf, wbox, ring_i, ring_f, p0, rate)
   (after them, per outlet link of the active box: the pore, -1, the pore);
 * ``ring_f`` (float64, (:data:`N_RING_F`, K)): see :data:`RING_P0`;
 * ``p0``, ``rate`` (float64, N): every pore's pressure at ``t0`` and its rate to the coarse
-  step's end (read for the pores outside ``W``).
+  step's end (read for the pores outside ``W``);
+* ``far`` (int64, M): the frontier throats whose meniscus enters a pore outside ``W``
+  (``far[:wi[6]]``), watched by :func:`far_meniscus`. The fine integration is given the
+  window's own frontier (the throats of its menisci) as its front, so that its per-step
+  loops are over the window's menisci only.
 
 With ``wi[0] == OFF`` every helper is a no-op and the integrators behave as without a window.
 In ``COARSE`` mode only the shadow sums run: :func:`porenet.kernels.multirate.coarse_step`
@@ -38,14 +42,16 @@ from porenet.kernels._jit import njit
 #: Slots of ``wi``: the mode (:data:`OFF`, :data:`FINE`, :data:`COARSE`), the edge margin,
 #: the ring throats and the window's outlet links (listed after them), and after a cut its
 #: reason and pore.
-WI = {"mode": 0, "margin": 1, "n_ring": 2, "cut_reason": 3, "cut_pore": 4, "n_outlet": 5}
-N_WI = 6
+WI = {"mode": 0, "margin": 1, "n_ring": 2, "cut_reason": 3, "cut_pore": 4, "n_outlet": 5,
+      "n_far": 6}  # fmt: skip
+N_WI = 7
 #: Modes: no window; the fine integration (the ring is Dirichlet data, its throats book what
 #: they carry); the coarse step over everything (the ring throats and outlet links only book).
 OFF, FINE, COARSE = 0, 1, 2
-#: Slots of ``wf``.
-WF = {"t0": 0}
-N_WF = 1
+#: Slots of ``wf``: the start of the macro step, and the least invading pressure at which a
+#: meniscus outside the window may reach its threshold during it (:func:`far_meniscus`).
+WF = {"t0": 0, "far_level": 1}
+N_WF = 2
 #: Rows of ``ring_f``: the ring pore's pressure at ``t0`` and ``dp/dt``; the volume carried out
 #: of the window by the fine integration so far; three stage buffers of the RKC shadow sum;
 #: the volume the coarse step carried out over the whole macro step.
@@ -68,6 +74,7 @@ def no_window(n_pores: int) -> tuple:
         np.zeros((N_RING_F, 0)),
         np.zeros(0),
         np.zeros(0),
+        np.zeros(0, dtype=np.int64),
     )
 
 
@@ -193,6 +200,32 @@ def near_open_edge(win: tuple, nbox: np.ndarray, n: int, k: int) -> bool:
         or (wbox[2] > nbox[2] and j - wbox[2] < margin)
         or (wbox[3] < nbox[3] and wbox[3] - 1 - j < margin)
     )
+
+
+@njit(helper=True)
+def far_meniscus(
+    win: tuple,
+    pinv: float,
+    margin: float,
+    t: float,
+    pe: np.ndarray,
+    tp: np.ndarray,
+    drained: np.ndarray,
+) -> int:
+    """The pore of a meniscus outside the window whose pressure difference at ``t``, at
+    invading pressure ``pinv``, exceeds its entry pressure less ``margin`` (-1 if none). The
+    list is scanned only when ``pinv + margin`` reaches ``wf[1]``, the least level at which
+    one may do so in the macro step."""
+    wi, wf, far = win[0], win[1], win[7]
+    if pinv + margin < wf[1]:
+        return -1
+    for s in range(wi[6]):
+        f = far[s]
+        a = tp[f, 0]
+        i = tp[f, 1] if drained[a] else a
+        if pinv - far_pressure(win, i, t) > pe[f] - margin:
+            return i
+    return -1
 
 
 @njit(helper=True)

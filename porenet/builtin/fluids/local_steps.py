@@ -7,20 +7,25 @@ docs/performance.md and docs/accuracy.md):
 
 * **Where the window goes**: a box around the *hot* pores (pores drained, and pores entered
   by menisci that moved, within the last :attr:`LocalSteps.memory` macro-step lengths, plus
-  the pores of the menisci now at their threshold), widened by ``R = window_radius sqrt(H
-  rho)`` pores on every side (``sqrt(H rho)`` is, to a factor, the distance in pores the
-  pressure diffuses in ``H``; ``rho`` the spectral radius) and clipped to the active box. A
-  macro step ends early when a pore drains within ``R / 2`` of an edge of the window, or
+  the pores of the menisci now at their threshold), widened to hold every pore whose error
+  estimate in the coarse step exceeds ``window_tolerance`` times the tolerance (with
+  :attr:`LocalSteps.error_margin` pores to spare), and by at least ``kappa sqrt(H rho)``
+  pores (``sqrt(H rho)`` is, to a factor, the distance in pores the pressure diffuses in
+  ``H``; ``rho`` the spectral radius), clipped to the active box. A macro step ends early
+  when a pore drains within half the hot pores' distance to an open edge of the window, or
   when a meniscus outside it reaches its threshold; the next one is centred again.
 * **The coarse step's menisci**: the injection rate Q as a constant source, shared among the
-  pores of the window's menisci at their threshold (or the one nearest to it).
-* **When there is none**: while the window would cover more than :attr:`max_share` of the
-  active box (early in a run, or when the menisci that move are far apart) the single-rate
-  RKC integrator drains the next pore.
-* **How long**: ``H`` starts at the time a pore takes (``2.8 V / Q``) and follows the RKC
-  controller on the coarse step's error estimate outside the window (a rejected coarse step
-  is redone shorter before the fine integration starts), and the refluxed volumes (the
-  coarse step's blind spot: kept below half the tolerance, as a pressure change).
+  pores of the menisci at their threshold (or given to the one nearest to it).
+* **How long**: at most twice the last ``H`` and what the refluxed volumes allow (the
+  coarse step's blind spot, kept below half the tolerance as a pressure change; they grow
+  like ``H^2``, and ``kappa`` grows with them), and within that the length that minimises
+  the predicted pore updates per unit time: the coarse stages over the active box per ``H``
+  plus the fine sweeps per unit time (learnt) over a window whose reach grows like
+  ``sqrt(H)`` (learnt).
+* **When there is none**: single-rate RKC drains the next pore when the active box is below
+  :attr:`LocalSteps.min_box` pores (``local_steps = "auto"``), when no window within
+  :attr:`LocalSteps.max_share` of the active box holds the coarse step's errors, or when a
+  macro step is predicted to cost more than :attr:`LocalSteps.gain` times single-rate steps.
 """
 
 from __future__ import annotations
@@ -48,8 +53,9 @@ from porenet.kernels.window import (
 LEVELS = (0.6, 0.8, 1.0, 1.25, 1.6, 2.0)
 
 #: Counters reported in ``/summary``.
-STATS = ("macro_steps", "macro_cuts", "single_rate_pores", "coarse_stage_sweeps",
-         "coarse_rejected_steps", "window_pore_stages", "coarse_pore_stages")  # fmt: skip
+STATS = ("macro_steps", "macro_cuts", "single_rate_pores", "single_rate_sweeps",
+         "coarse_stage_sweeps", "coarse_rejected_steps", "window_pore_stages",
+         "coarse_pore_stages")  # fmt: skip
 
 
 class LocalSteps:
@@ -71,7 +77,7 @@ class LocalSteps:
     #: Coarse steps tried for one macro step before a single-rate step is taken instead.
     max_attempts = 8
     #: A macro step is taken only if its predicted cost is below this fraction of the
-    #: single-rate steps' (``_worth_it``), and only on an active box of at least
+    #: single-rate steps' (:meth:`_plan`), and only on an active box of at least
     #: :attr:`min_box` pores (at n = 100, Ca = 1e-5 the macro steps' fixed costs made the
     #: run 12 % slower than single-rate steps; at n = 200 they made it 1.4x faster).
     gain = 0.8
@@ -86,7 +92,12 @@ class LocalSteps:
         n = fluid._grid_n
         self.n = n
         n_pores = n * n
-        self.win = self._window_arrays(FINE, 4 * n * (len(LEVELS) + 1), n_pores)
+        n_throats = len(fluid._pe)
+        self.win = self._window_arrays(FINE, 4 * n * (len(LEVELS) + 1), n_pores, n_throats)
+        #: The window's own front (its menisci) and their slots, and counters, for the fine
+        #: integration (:func:`porenet.kernels.multirate.split_front`).
+        self._wfront = np.zeros(n_throats, dtype=np.int64)
+        self._wfpos = np.full(n_throats, -1, dtype=np.int64)
         self._p1 = np.zeros(n_pores)
         self._scratch = np.zeros(n_pores)
         self._ebox = np.zeros(4, dtype=np.int64)
@@ -100,7 +111,7 @@ class LocalSteps:
         self.last: dict[str, Any] = {}  # the last macro step, for diagnostics
 
     @staticmethod
-    def _window_arrays(mode: int, entries: int, n_pores: int) -> tuple:
+    def _window_arrays(mode: int, entries: int, n_pores: int, n_throats: int) -> tuple:
         wi = np.zeros(N_WI, dtype=np.int64)
         wi[0] = mode
         return (
@@ -111,6 +122,7 @@ class LocalSteps:
             np.zeros((N_RING_F, entries)),
             np.zeros(n_pores),
             np.zeros(n_pores),
+            np.zeros(n_throats, dtype=np.int64),
         )
 
     # -- where -----------------------------------------------------------------------------
@@ -198,9 +210,12 @@ class LocalSteps:
                 before, t_before = int(f._cnt[0]), float(f._acc[0])
                 sweeps = f._ctrl[1] + f._ctrl[4]
                 status = f._rkc_single(state, 1, t_end)
-                self._learn_fine_rate(f._ctrl[1] + f._ctrl[4] - sweeps, f._acc[0] - t_before)
+                sweeps = f._ctrl[1] + f._ctrl[4] - sweeps
+                self.stats["single_rate_sweeps"] += int(sweeps)
+                self._learn_fine_rate(sweeps, f._acc[0] - t_before)
                 self.stats["single_rate_pores"] += int(f._cnt[0]) - before
                 self._note_drained(before)
+                # the next macro step starts from at least twice the step RKC is taking
                 self.H = max(self.H, 2.0 * f._ctrl[0])
                 if status != 0:
                     return status
@@ -315,11 +330,22 @@ class LocalSteps:
         wi[3] = wi[4] = -1
         field = f._field(nbox, self._scratch)
         mk.start_fine(win, f._p, self._p1, field, t0, h)
-        inside = self._window_menisci(state.drained, wbox)
+        drained = state.drained
+        n_w, wi[6] = mk.split_front(self.n, wbox, f._front, int(f._cnt[2]), f._tp, drained,
+                                    self._wfront, self._wfpos, win[7])  # fmt: skip
+        win[1][1] = mk.far_level(win[7], wi[6], f._tp, drained, f._pe, win[5], win[6], h)
+        inside = self._wfront[:n_w].copy()
         ell_before = f._ell[inside].copy()
         events0 = int(f._cnt[0])
         stages0, explicit0 = f._ctrl[1], f._ctrl[4]
-        status = f._rkc_window(state, budget, t0 + h, wbox, win)
+        cnt = f._cnt.copy()
+        cnt[2] = n_w
+        status = f._rkc_window(state, budget, t0 + h, wbox, win, (self._wfront, self._wfpos, cnt))
+        f._cnt[[0, 1, 3, 4, 5]] = cnt[[0, 1, 3, 4, 5]]
+        mk.merge_front(f._order, events0, int(cnt[0]), *f._csr, drained, f._front, f._fpos,
+                       f._cnt, self._wfront, int(cnt[2]), self._wfpos)  # fmt: skip
+        if status == 5 and f._cnt[2] > 0:
+            status = CUT  # the window's menisci are gone, not all of them
         t_e = float(f._acc[0])
         theta = (t_e - t0) / h
         stored, far_out, reflux = mk.far_update(
@@ -412,14 +438,6 @@ class LocalSteps:
         if self._fine_rate is not None and not cost < self.gain * self._fine_rate * area:
             return None
         return h
-
-    def _window_menisci(self, drained: np.ndarray, wbox: np.ndarray) -> np.ndarray:
-        """Frontier throats whose undrained pore lies in the window."""
-        n = self.n
-        front, pore, _ = self._menisci(drained)
-        i, j = pore // n, pore % n
-        ok = (i >= wbox[0]) & (i < wbox[1]) & (j >= wbox[2]) & (j < wbox[3])
-        return front[ok]
 
     def _hot(self, t: float, a: np.ndarray, b: np.ndarray, drained: np.ndarray) -> None:
         """Mark the pores entered by the menisci of throats (a, b) hot at ``t``."""

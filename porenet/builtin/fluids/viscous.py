@@ -525,10 +525,18 @@ class ViscousDrainage(FluidModel):
         )
 
     def _rkc_window(
-        self, state: State, budget: int, t_end: float, wbox: np.ndarray, win: tuple
+        self,
+        state: State,
+        budget: int,
+        t_end: float,
+        wbox: np.ndarray,
+        win: tuple,
+        front: tuple[np.ndarray, np.ndarray, np.ndarray],
     ) -> int:
-        """The fine integration of one macro step of local time steps: RKC over the window."""
-        return self._rkc_single(state, budget, t_end, wbox, win)
+        """The fine integration of one macro step of local time steps: RKC over the window,
+        with the window's own front ``(front, fpos, cnt)`` (a copy of the counters whose
+        slot 2 counts it)."""
+        return self._rkc_single(state, budget, t_end, wbox, win, front)
 
     def _rkc_single(
         self,
@@ -537,17 +545,19 @@ class ViscousDrainage(FluidModel):
         t_end: float,
         wbox: np.ndarray | None = None,
         win: tuple | None = None,
+        front: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
     ) -> int:
         from porenet.kernels import rkc
 
         cfg, stop = self.config, self.context.stop
         box = self._box if wbox is None else wbox
+        fr, fpos, cnt = (self._front, self._fpos, self._cnt) if front is None else front
         return rkc.rkc_advance(
             *self._csr, self._tp, self._g_eff, self._g_num, self._area, self._pe, self._vol,
             self._g_out, self._outlet, self._grid_n, box, self._p, state.drained,
-            self._ell, self._latched, self._front, self._fpos, self._act, self._apos,
+            self._ell, self._latched, fr, fpos, self._act, self._apos,
             self._flux, self._p_next, self._on_t, self._on_p, self._landing,
-            self._acc, self._cnt, self._order, self._via, self._series,
+            self._acc, cnt, self._order, self._via, self._series,
             self._ybuf, self._f0, self._fnew, self._zero, self._ctrl, self.spectral_radius,
             self.dt_stable, self._dt, self._control, self._q, self._capacity,
             self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
