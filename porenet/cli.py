@@ -53,6 +53,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.plot and not Path(args.plot).resolve().parent.is_dir():
         raise ConfigError(f"--plot {args.plot}: directory does not exist")
     progress = not args.quiet and sys.stderr.isatty()
+    if args.threads is not None:
+        from porenet.kernels._jit import set_threads
+
+        if args.threads < 1:
+            raise ConfigError(f"--threads {args.threads}: must be at least 1")
+        set_threads(args.threads)
     sim = Simulation.from_scene(source, args.overrides, output=output, progress=progress)
     result = sim.run()
     s = result.summary
@@ -274,6 +280,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", help="run file to write (default: SCENE_STEM.h5)")
     p.add_argument("--plot", metavar="PNG", help="also save the pattern as a picture")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    p.add_argument(
+        "--threads",
+        type=int,
+        metavar="N",
+        help="threads of the parallel kernels (default: every core; results do not depend on it)",
+    )
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("validate", help="check a scene without running it")

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from types import FunctionType
 from typing import Any
 
 import numpy as np
@@ -25,6 +26,10 @@ try:
     import numba
 
     HAVE_NUMBA = True
+    # Start numba's threading layer now. A cached kernel that calls a parallel one does not
+    # start it when it is loaded from the on-disk cache (numba issue #8578, open): its first
+    # call would then crash the process.
+    numba.get_num_threads()
 except ImportError:  # pragma: no cover - numba is a core dependency
     numba = None
     HAVE_NUMBA = False
@@ -59,6 +64,61 @@ def njit(
     if reassociate:
         options["fastmath"] = {"reassoc", "nsz"}
     return numba.njit(**options)(func)
+
+
+#: Boxes of at least this many pores are swept by several threads; below, starting them
+#: costs more than they save (~3 us per start against ~1.2 ns per pore and sweep).
+PARALLEL_MIN = 4096
+
+#: ``numba.prange`` (a loop whose iterations may run on several threads), ``range`` without
+#: numba.
+prange = numba.prange if HAVE_NUMBA else range
+
+
+def pjit(func: Callable[..., Any]) -> Any:
+    """``numba.njit(parallel=True, cache=True, nogil=True)`` when numba is available, else
+    identity: a kernel whose ``prange`` loops run on up to :func:`threads` threads. Its
+    iterations must write disjoint data, and any sum over them is done afterwards, in a fixed
+    order (per-iteration partial sums), so that the result does not depend on the number of
+    threads to the last bit."""
+    if not HAVE_NUMBA:
+        return func
+    return numba.njit(parallel=True, cache=True, nogil=True)(func)
+
+
+def serial_and_parallel(func: Callable[..., Any]) -> tuple[Any, Any]:
+    """Two compilations of one kernel whose loop is a ``prange``: ``(serial, parallel)``, the
+    first an ordinary :func:`njit` kernel (numba runs ``prange`` as ``range`` there) for small
+    inputs, where starting threads costs more than they save, the second a :func:`pjit` one
+    (the same rules apply). Each is cached on disk under its own name."""
+    serial = njit(func)
+    if not HAVE_NUMBA:
+        return serial, serial
+    twin = FunctionType(
+        func.__code__, func.__globals__, func.__name__ + "_parallel", func.__defaults__,
+        func.__closure__,
+    )  # fmt: skip
+    twin.__qualname__ = func.__qualname__ + "_parallel"
+    twin.__module__ = func.__module__
+    twin.__doc__ = func.__doc__
+    twin.__annotations__ = dict(func.__annotations__)
+    return serial, pjit(twin)
+
+
+def set_threads(count: int | None) -> int:
+    """Let the parallel kernels use ``count`` threads (None: every core numba sees), at least
+    1 and at most numba's limit; returns the number set. Results do not depend on it."""
+    if not HAVE_NUMBA:
+        return 1
+    limit = int(numba.config.NUMBA_NUM_THREADS)
+    count = limit if count is None else max(1, min(int(count), limit))
+    numba.set_num_threads(count)
+    return count
+
+
+def threads() -> int:
+    """The threads the parallel kernels use now."""
+    return int(numba.get_num_threads()) if HAVE_NUMBA else 1
 
 
 def _prefetch_py(array: np.ndarray, index: int) -> None:

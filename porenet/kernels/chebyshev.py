@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels._jit import PARALLEL_MIN, njit, prange, serial_and_parallel
 from porenet.kernels.diffusion import csr_fluxes, grid_flux
 
 #: Most stages of one step (the step is cut to what they make stable).
@@ -154,6 +154,92 @@ def _row_flux(
 
 
 @njit
+def _stage_row(
+    i: int,
+    n: int,
+    box: np.ndarray,
+    nbox: np.ndarray,
+    g_eff: np.ndarray,
+    g_out: np.ndarray,
+    inv_vol: np.ndarray,
+    y1: np.ndarray,
+    y2: np.ndarray,
+    f0: np.ndarray,
+    coef: tuple[float, float, float, float],
+    out: np.ndarray,
+    flux_only: bool,
+) -> float:
+    """Row ``i`` of :func:`grid_stage`; returns its outflow rate (a sequential sum)."""
+    c1, c2, ce, cf = coef
+    j0, j1 = box[2], box[3]
+    vertical = n * (n - 1)
+    row_out = 0.0
+    row = i * n
+    up, down = i > nbox[0], i < nbox[1] - 1
+    outlet = i == 0 or i == n - 1
+    a, b = row + j0 + 1, row + j1 - 1
+    if b > a:
+        h = i * (n - 1) + j0
+        above = vertical + a - n if up else vertical + a
+        below = vertical + a if down else vertical + a - n
+        pu = y1[a - n : b - n] if up else y1[a:b]
+        pd = y1[a + n : b + n] if down else y1[a:b]
+        if flux_only:
+            _row_flux(
+                y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
+                g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
+                g_eff[above : above + b - a], g_eff[below : below + b - a],
+                up, down, outlet, g_out[a:b], out[a:b],
+            )  # fmt: skip
+        else:
+            _row_stage(
+                y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
+                g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
+                g_eff[above : above + b - a], g_eff[below : below + b - a],
+                up, down, outlet, g_out[a:b], inv_vol[a:b], y2[a:b], f0[a:b],
+                c1, c2, ce, cf, out[a:b],
+            )  # fmt: skip
+        if outlet:  # the outlet's pores inside the run
+            for k in range(a, b):
+                row_out += g_out[k] * y1[k]
+    for k in (row + j0, row + j1 - 1):
+        total = grid_flux(n, nbox, k, y1, g_eff, g_out)
+        if flux_only:
+            out[k] = total
+        else:
+            out[k] = c1 * y1[k] + c2 * y2[k] + (ce * total + cf * f0[k]) * inv_vol[k]
+        row_out += g_out[k] * y1[k]
+        if j1 - j0 == 1:
+            break
+    return row_out
+
+
+def _stage_rows(
+    n: int,
+    box: np.ndarray,
+    nbox: np.ndarray,
+    g_eff: np.ndarray,
+    g_out: np.ndarray,
+    inv_vol: np.ndarray,
+    y1: np.ndarray,
+    y2: np.ndarray,
+    f0: np.ndarray,
+    coef: tuple[float, float, float, float],
+    out: np.ndarray,
+    flux_only: bool,
+    partial: np.ndarray,
+) -> None:
+    """:func:`_stage_row` over the box's rows (they write disjoint parts of ``out``)."""
+    for i in prange(box[0], box[1]):
+        partial[i - box[0]] = _stage_row(
+            i, n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out, flux_only
+        )
+
+
+_stage_rows_serial, _stage_rows_parallel = serial_and_parallel(_stage_rows)
+
+
+@njit
 def grid_stage(
     n: int,
     box: np.ndarray,
@@ -175,49 +261,20 @@ def grid_stage(
     swept) do not count, as in :func:`porenet.kernels.diffusion.grid_sweep`; neighbours
     outside ``box`` but inside ``nbox`` do, with the values ``y1`` holds there (a window's
     ring, :mod:`porenet.kernels.multirate`). Returns the outflow rate ``sum g_out y1`` over
-    ``box``."""
-    c1, c2, ce, cf = coef
-    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
-    vertical = n * (n - 1)
+    ``box`` (per row, then over the rows in order: the same bits on any number of threads).
+    Boxes of :data:`porenet.kernels._jit.PARALLEL_MIN` pores or more are swept by several
+    threads."""
+    rows = box[1] - box[0]
+    partial = np.empty(max(rows, 0))
+    if rows * (box[3] - box[2]) >= PARALLEL_MIN:
+        _stage_rows_parallel(n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out,
+                             flux_only, partial)  # fmt: skip
+    else:
+        _stage_rows_serial(n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out,
+                           flux_only, partial)  # fmt: skip
     total_out = 0.0
-    for i in range(i0, i1):
-        row = i * n
-        up, down = i > nbox[0], i < nbox[1] - 1
-        outlet = i == 0 or i == n - 1
-        a, b = row + j0 + 1, row + j1 - 1
-        if b > a:
-            h = i * (n - 1) + j0
-            above = vertical + a - n if up else vertical + a
-            below = vertical + a if down else vertical + a - n
-            pu = y1[a - n : b - n] if up else y1[a:b]
-            pd = y1[a + n : b + n] if down else y1[a:b]
-            if flux_only:
-                _row_flux(
-                    y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
-                    g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
-                    g_eff[above : above + b - a], g_eff[below : below + b - a],
-                    up, down, outlet, g_out[a:b], out[a:b],
-                )  # fmt: skip
-            else:
-                _row_stage(
-                    y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
-                    g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
-                    g_eff[above : above + b - a], g_eff[below : below + b - a],
-                    up, down, outlet, g_out[a:b], inv_vol[a:b], y2[a:b], f0[a:b],
-                    c1, c2, ce, cf, out[a:b],
-                )  # fmt: skip
-            if outlet:  # the outlet's pores inside the run (a sequential sum)
-                for k in range(a, b):
-                    total_out += g_out[k] * y1[k]
-        for k in (row + j0, row + j1 - 1):
-            total = grid_flux(n, nbox, k, y1, g_eff, g_out)
-            if flux_only:
-                out[k] = total
-            else:
-                out[k] = c1 * y1[k] + c2 * y2[k] + (ce * total + cf * f0[k]) * inv_vol[k]
-            total_out += g_out[k] * y1[k]
-            if j1 - j0 == 1:
-                break
+    for r in range(rows):
+        total_out += partial[r]
     return total_out
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels._jit import PARALLEL_MIN, njit, prange, serial_and_parallel
 
 
 @njit(helper=True)
@@ -161,7 +161,76 @@ def _row_interior(
     return stored, out
 
 
-@njit(helper=True)
+@njit
+def _sweep_row(
+    i: int,
+    n: int,
+    box: np.ndarray,
+    nbox: np.ndarray,
+    dt: float,
+    g_eff: np.ndarray,
+    g_out: np.ndarray,
+    vol: np.ndarray,
+    inv_vol: np.ndarray,
+    p: np.ndarray,
+    p_next: np.ndarray,
+) -> tuple[float, float]:
+    """Row ``i`` of :func:`grid_sweep`; returns its stored-volume change and outflow rate."""
+    j0, j1 = box[2], box[3]
+    vertical = n * (n - 1)
+    stored = 0.0
+    out = 0.0
+    row = i * n
+    up, down = i > nbox[0], i < nbox[1] - 1
+    a, b = row + j0 + 1, row + j1 - 1  # the interior run of the row: pores [a, b)
+    if b > a:
+        h = i * (n - 1) + j0  # throat between pores a - 1 and a
+        above = vertical + a - n if up else vertical + a  # any valid view when unused
+        below = vertical + a if down else vertical + a - n
+        stored, out = _row_interior(
+            p[a:b], p[a - 1 : b - 1], p[a + 1 : b + 1],
+            p[a - n : b - n] if up else p[a:b], p[a + n : b + n] if down else p[a:b],
+            g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
+            g_eff[above : above + b - a], g_eff[below : below + b - a],
+            up, down, g_out[a:b], vol[a:b], inv_vol[a:b], dt, p_next[a:b],
+        )  # fmt: skip
+    for k in (row + j0, row + j1 - 1):
+        pk = p[k]
+        total = grid_flux(n, nbox, k, p, g_eff, g_out)
+        pn = pk + dt * (total * inv_vol[k])
+        p_next[k] = pn
+        out += g_out[k] * pk
+        stored += vol[k] * (pn - pk)
+        if j1 - j0 == 1:  # one column: its only pore is both ends
+            break
+    return stored, out
+
+
+def _sweep_rows(
+    n: int,
+    box: np.ndarray,
+    nbox: np.ndarray,
+    dt: float,
+    g_eff: np.ndarray,
+    g_out: np.ndarray,
+    vol: np.ndarray,
+    inv_vol: np.ndarray,
+    p: np.ndarray,
+    p_next: np.ndarray,
+    partial: np.ndarray,
+) -> None:
+    """:func:`_sweep_row` over the box's rows (they write disjoint parts of ``p_next``)."""
+    for i in prange(box[0], box[1]):
+        r = i - box[0]
+        partial[0, r], partial[1, r] = _sweep_row(
+            i, n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next
+        )
+
+
+_sweep_rows_serial, _sweep_rows_parallel = serial_and_parallel(_sweep_rows)
+
+
+@njit
 def grid_sweep(
     n: int,
     box: np.ndarray,
@@ -188,38 +257,40 @@ def grid_sweep(
 
     ``nbox`` holds ``box`` and bounds the neighbours that count (``box`` itself but in a
     window of local time steps, :mod:`porenet.kernels.multirate`, whose ring of pores outside
-    ``box`` is read, not written)."""
-    i0, i1, j0, j1 = box[0], box[1], box[2], box[3]
-    vertical = n * (n - 1)
+    ``box`` is read, not written). Boxes of :data:`porenet.kernels._jit.PARALLEL_MIN` pores or
+    more are swept by several threads; the sums are taken per row, then over the rows in
+    order, so the result does not depend on their number."""
+    rows = box[1] - box[0]
+    partial = np.empty((2, max(rows, 0)))
+    if rows * (box[3] - box[2]) >= PARALLEL_MIN:
+        _sweep_rows_parallel(n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next, partial)
+    else:
+        _sweep_rows_serial(n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next, partial)
     stored = 0.0
     out = 0.0
-    for i in range(i0, i1):
-        row = i * n
-        up, down = i > nbox[0], i < nbox[1] - 1
-        a, b = row + j0 + 1, row + j1 - 1  # the interior run of the row: pores [a, b)
-        if b > a:
-            h = i * (n - 1) + j0  # throat between pores a - 1 and a
-            above = vertical + a - n if up else vertical + a  # any valid view when unused
-            below = vertical + a if down else vertical + a - n
-            s, o = _row_interior(
-                p[a:b], p[a - 1 : b - 1], p[a + 1 : b + 1],
-                p[a - n : b - n] if up else p[a:b], p[a + n : b + n] if down else p[a:b],
-                g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
-                g_eff[above : above + b - a], g_eff[below : below + b - a],
-                up, down, g_out[a:b], vol[a:b], inv_vol[a:b], dt, p_next[a:b],
-            )  # fmt: skip
-            stored += s
-            out += o
-        for k in (row + j0, row + j1 - 1):
-            pk = p[k]
-            total = grid_flux(n, nbox, k, p, g_eff, g_out)
-            pn = pk + dt * (total * inv_vol[k])
-            p_next[k] = pn
-            out += g_out[k] * pk
-            stored += vol[k] * (pn - pk)
-            if j1 - j0 == 1:  # one column: its only pore is both ends
-                break
+    for r in range(rows):
+        stored += partial[0, r]
+        out += partial[1, r]
     return stored, out
+
+
+def _copy_rows(n: int, box: np.ndarray, src: np.ndarray, dst: np.ndarray) -> None:
+    """``dst = src`` over the box of an n x n grid."""
+    for i in prange(box[0], box[1]):
+        a, b = i * n + box[2], i * n + box[3]
+        dst[a:b] = src[a:b]
+
+
+_copy_rows_serial, _copy_rows_parallel = serial_and_parallel(_copy_rows)
+
+
+@njit
+def copy_rows(n: int, box: np.ndarray, src: np.ndarray, dst: np.ndarray) -> None:
+    """``dst = src`` over the box of an n x n grid (by several threads on a large box)."""
+    if (box[1] - box[0]) * (box[3] - box[2]) >= PARALLEL_MIN:
+        _copy_rows_parallel(n, box, src, dst)
+    else:
+        _copy_rows_serial(n, box, src, dst)
 
 
 @njit(helper=True)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels._jit import PARALLEL_MIN, njit, prange, serial_and_parallel
 from porenet.kernels.chebyshev import coefficients, sweep
 from porenet.kernels.menisci import (
     CONTROL_PRESSURE,
@@ -77,15 +77,27 @@ def _row_scaled(f: np.ndarray, inv_vol: np.ndarray, dt: float, out: np.ndarray) 
         out[j] = dt * f[j] * inv_vol[j]
 
 
+def _scaled_rows(
+    n: int, box: np.ndarray, f: np.ndarray, inv_vol: np.ndarray, dt: float, out: np.ndarray
+) -> None:
+    """``out = dt f / V`` over the box's rows (:func:`_row_scaled`)."""
+    for i in prange(box[0], box[1]):
+        a, b = i * n + box[2], i * n + box[3]
+        _row_scaled(f[a:b], inv_vol[a:b], dt, out[a:b])
+
+
+_scaled_rows_serial, _scaled_rows_parallel = serial_and_parallel(_scaled_rows)
+
+
 @njit
 def _scaled_rate(field: tuple, f: np.ndarray, dt: float, out: np.ndarray) -> None:
     """``out = dt f / V`` over the active pores of ``field`` (the first stage's increment)."""
     grid_n, box, na, act = field[0], field[1], field[2], field[3]
     inv_vol = field[10]
-    if grid_n > 0:
-        for i in range(box[0], box[1]):
-            a, b = i * grid_n + box[2], i * grid_n + box[3]
-            _row_scaled(f[a:b], inv_vol[a:b], dt, out[a:b])
+    if grid_n > 0 and (box[1] - box[0]) * (box[3] - box[2]) >= PARALLEL_MIN:
+        _scaled_rows_parallel(grid_n, box, f, inv_vol, dt, out)
+    elif grid_n > 0:
+        _scaled_rows_serial(grid_n, box, f, inv_vol, dt, out)
     else:
         for s in range(na):
             k = act[s]
@@ -205,6 +217,63 @@ def imex_stages(
 
 
 @njit
+def _error_run(
+    lo: int,
+    hi: int,
+    h: float,
+    ds: np.ndarray,
+    f0: np.ndarray,
+    fnew: np.ndarray,
+    fi: np.ndarray,
+    vol: np.ndarray,
+    inv_vol: np.ndarray,
+) -> tuple[float, float, float]:
+    """:func:`step_error` over the pores ``[lo, hi)``: (max error, stored volume, max |ds|)."""
+    err = 0.0
+    stored = 0.0
+    largest = 0.0
+    for k in range(lo, hi):
+        fnew[k] += f0[k]
+        change = ds[k]
+        e = abs(-0.8 * change + 0.4 * h * (f0[k] + fnew[k] + fi[k]) * inv_vol[k])
+        err = max(err, e)
+        stored += vol[k] * change
+        largest = max(largest, abs(change))
+    return err, stored, largest
+
+
+def _error_rows(
+    h: float,
+    n: int,
+    box: np.ndarray,
+    act: np.ndarray,
+    count: int,
+    ds: np.ndarray,
+    f0: np.ndarray,
+    fnew: np.ndarray,
+    fi: np.ndarray,
+    vol: np.ndarray,
+    inv_vol: np.ndarray,
+    partial: np.ndarray,
+) -> None:
+    """:func:`_error_run` over the box's rows (``n > 0``) or over the ``count`` listed
+    pores ``act``, into ``partial[:, r]``."""
+    for r in prange(count):
+        if n > 0:
+            lo = (box[0] + r) * n + box[2]
+            hi = lo + box[3] - box[2]
+        else:
+            lo = act[r]
+            hi = lo + 1
+        partial[0, r], partial[1, r], partial[2, r] = _error_run(
+            lo, hi, h, ds, f0, fnew, fi, vol, inv_vol
+        )
+
+
+_error_rows_serial, _error_rows_parallel = serial_and_parallel(_error_rows)
+
+
+@njit
 def step_error(
     h: float,
     field: tuple,
@@ -217,25 +286,22 @@ def step_error(
     """Over the active pores, with ``ds = y_n+1 - y_n`` and ``fnew = L ds`` on entry (turned
     into ``F_E(y_n+1) = f0 + L ds``): ``max |-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (``F``
     is ``F_E`` plus ``fi`` at the menisci's pores), the stored volume change ``sum V ds`` and
-    ``max |ds|``."""
+    ``max |ds|``. On grids the sums are taken per row, then over the rows in order (by
+    several threads on large boxes: the same bits on any number of them)."""
     grid_n, box, na, act = field[0], field[1], field[2], field[3]
     inv_vol = field[10]
+    count = (box[1] - box[0]) if grid_n > 0 else na
+    partial = np.empty((3, max(count, 0)))
+    args = (h, grid_n, box, act, count, ds, f0, fnew, fi, vol, inv_vol, partial)
+    if grid_n > 0 and count * (box[3] - box[2]) >= PARALLEL_MIN:
+        _error_rows_parallel(*args)
+    else:
+        _error_rows_serial(*args)
     err = 0.0
     stored = 0.0
     largest = 0.0
-    count = (box[1] - box[0]) if grid_n > 0 else na
     for r in range(count):
-        if grid_n > 0:
-            lo = (box[0] + r) * grid_n + box[2]
-            hi = lo + box[3] - box[2]
-        else:
-            lo = act[r]
-            hi = lo + 1
-        for k in range(lo, hi):
-            fnew[k] += f0[k]
-            change = ds[k]
-            e = abs(-0.8 * change + 0.4 * h * (f0[k] + fnew[k] + fi[k]) * inv_vol[k])
-            err = max(err, e)
-            stored += vol[k] * change
-            largest = max(largest, abs(change))
+        err = max(err, partial[0, r])
+        stored += partial[1, r]
+        largest = max(largest, partial[2, r])
     return err, stored, largest

@@ -40,6 +40,7 @@ import numpy as np
 from porenet.kernels._jit import njit
 from porenet.kernels.diffusion import (
     activate,
+    copy_rows,
     csr_fluxes,
     csr_update,
     grid_flux,
@@ -477,9 +478,7 @@ def explicit_advance(
             for s in range(na):
                 p[act[s]] = p_next[act[s]]
         else:
-            for i in range(box[0], box[1]):
-                start = i * grid_n
-                p[start + box[2] : start + box[3]] = p_next[start + box[2] : start + box[3]]
+            copy_rows(grid_n, box, p_next, p)
         for s in range(n_on):
             head[on_p[s]] = -1
         if not windowed:

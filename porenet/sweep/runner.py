@@ -68,6 +68,7 @@ class RunTask:
     run_id: str
     scene: dict[str, Any]
     output: str  # absolute path of the run file
+    threads: int = 1  # threads of the parallel kernels (the cores a worker may use)
 
 
 class _Capture(logging.Handler):
@@ -104,8 +105,10 @@ def execute_run(task: RunTask) -> dict[str, Any]:
     logger.addHandler(capture)
     logger.propagate = False
     try:
+        from porenet.kernels._jit import set_threads
         from porenet.simulation import run
 
+        set_threads(task.threads)
         result = run(task.scene, output=task.output)
         out: dict[str, Any] = {k: _plain(result.summary.get(k)) for k in SUMMARY_FIELDS}
         out["status"] = "done"
@@ -360,6 +363,15 @@ def _scan(
     return todo
 
 
+def threads_per_run(ex: Executor | None, scheduler: str | None) -> int:
+    """Threads for each run's parallel kernels: the cores divided among the runs that execute
+    at once on this machine (``os.cpu_count() // workers``, at least 1); 1 on a remote dask
+    cluster, whose workers' cores are not known here. The results do not depend on it."""
+    if ex is None or scheduler is not None or not ex.workers:
+        return 1
+    return max(1, (os.cpu_count() or 1) // ex.workers)
+
+
 def _make_executor(
     n_todo: int, workers: int | None, scheduler: str | None, dask_local: bool
 ) -> Executor:
@@ -450,7 +462,9 @@ def run_sweep(
         log.info("sweep %r: %d runs, %d finished before, %d to run", sweep.spec.name,
                  len(runs), len(runs) - len(todo), len(todo))  # fmt: skip
         by_id = {run.run_id: run for run in todo}
-        tasks = [RunTask(r.run_id, r.scene, str((out / r.run_file).resolve())) for r in todo]
+        threads = threads_per_run(ex, scheduler)
+        tasks = [RunTask(r.run_id, r.scene, str((out / r.run_file).resolve()), threads)
+                 for r in todo]  # fmt: skip
         t0 = time.perf_counter()
         progress(None)
         if ex is not None and todo:
