@@ -36,8 +36,9 @@ pores):
   ``steps (1.5e-5 + 1.8e-9 N) + drained 2.9e-6 n``; implicit ``drained 0.039
   (N / 2500)^1.41``; a deformable medium adds ``steps (3e-5 + 1.8e-9 N)`` (one step per
   call and the coupler's check) and ``updates (2.3e-9 + 7e-9 w) N^1.15`` (``w`` = 1 when
-  fracturing). Python start-up, imports and the first-run numba compilation (~5 s, once per
-  machine) are not included.
+  fracturing); RKC with local time steps on large lattices ~1/3 of its time without
+  (:data:`LOCAL_STEPS_FACTOR`). Python start-up, imports and the first-run numba
+  compilation (~5 s, once per machine) are not included.
 """
 
 from __future__ import annotations
@@ -74,6 +75,13 @@ RKC_STAGE_FACTOR = 1.6
 #: Stages of an average RKC step, to count its steps (13.5 measured at n = 400, Ca = 1e-5,
 #: ``python tests/benchmarks/bench_viscous.py --skip-fig1b --low-ca-full``; a round 10 here).
 RKC_STAGES_PER_STEP = 10.0
+#: Local time steps (RKC, ``local_steps``): the wall time of the integration times
+#: ``LOCAL_STEPS_FACTOR[1]`` from ``LOCAL_STEPS_FACTOR[0]`` pores up (773 s single-rate ->
+#: 256 s at n = 400, Ca = 1e-5, one thread; docs/performance.md), 1 below the active box
+#: where ``auto`` starts using them (:attr:`porenet.builtin.fluids.local_steps.LocalSteps.min_box`,
+#: 40 000 pores: 0.69 measured at n = 200), geometric in N between.
+LOCAL_STEPS_FACTOR = (160_000, 0.33)
+LOCAL_STEPS_MIN_BOX = (40_000, 0.69)
 #: Fracturing, by fluid kind: drained pores per pore of side once fractured, and the N_f
 #: range interpolated over (viscous: Fig. 5 at n = 100 and 400; invasion percolation:
 #: n = 50 and 100, one straight fracture).
@@ -297,6 +305,23 @@ def solid_fracturing_number(scene: Any) -> float | None:
     return fracturing_number(float(gamma), float(lam), float(pore), float(modulus), float(eps))
 
 
+def local_steps_factor(scene: Any, pores: int, rigid: bool) -> float:
+    """What local time steps do to the RKC integration's wall time (:data:`LOCAL_STEPS_FACTOR`):
+    1 where they do not apply (``local_steps = "off"``, a coupled solid, pressure control, a
+    lattice other than the square grid) or, on lattices smaller than the box where they start."""
+    fluid = scene.fluid
+    if getattr(fluid, "local_steps", "off") == "off" or not rigid or fluid.control != "rate":
+        return 1.0
+    if getattr(scene.lattice, "kind", None) != "square":  # local steps need a square grid
+        return 1.0
+    (n0, f0), (n1, f1) = LOCAL_STEPS_MIN_BOX, LOCAL_STEPS_FACTOR
+    if pores < n0:
+        return 1.0
+    if pores >= n1:
+        return f1
+    return f0 * (f1 / f0) ** (math.log(pores / n0) / math.log(n1 / n0))
+
+
 def estimate_cost(scene: Any) -> CostEstimate:
     """Estimate drained pores, steps, mechanical updates, memory and wall time of ``scene``.
 
@@ -386,6 +411,7 @@ def estimate_cost(scene: Any) -> CostEstimate:
                 c0, c1 = EXPLICIT_STEP_SECONDS
                 wall = unfractured * stages * (c0 + RKC_STAGE_FACTOR * c1 * pores)
                 wall += unfractured * RKC_EXPLICIT * (c0 + c1 * pores)
+                wall *= local_steps_factor(scene, pores, rigid)
                 wall += drained * EXPLICIT_DRAINED_SECONDS * n
                 notes.append("rkc integrator (stabilised explicit steps)")
             else:
