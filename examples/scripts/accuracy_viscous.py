@@ -126,8 +126,7 @@ def plot(rows: list[dict], integrators: list[str], title: str, out: Path) -> Non
         for knob in KNOBS[integrator]
     ]
     groups = [g for g in groups if g[1]]  # (a defaults-only integrator has one point)
-    fig = error_vs_wall(groups, ("pattern", "breakthrough_time", "pressure"), title,
-                        zero_at=1e-16)  # fmt: skip
+    fig = error_vs_wall(groups, ("pattern", "breakthrough_time", "pressure"), title)
     save_figure(fig, out)
     print(f"figure: {out}")
 

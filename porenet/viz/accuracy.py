@@ -17,9 +17,11 @@ def _plain_log_ticks(ax: Any) -> None:
     and they overlap)."""
     from matplotlib.ticker import LogLocator, NullFormatter, StrMethodFormatter
 
+    ax.autoscale_view()  # the limits the data give (or were set), before the ticks are chosen
     for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
         if lo > 0 and hi / lo < 100:
-            axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+            subs = (1.0, 1.5, 2.0, 3.0, 5.0, 7.0) if hi / lo < 10 else (1.0, 2.0, 5.0)
+            axis.set_major_locator(LogLocator(subs=subs))
             axis.set_major_formatter(StrMethodFormatter("{x:.3g}"))
             axis.set_minor_formatter(NullFormatter())
 
@@ -47,11 +49,13 @@ def error_vs_wall(
         Figure title.
     zero_at : float, optional
         Where an error of exactly 0 is drawn; default a third of the smallest non-zero error
-        of the panel.
+        of the panel. A panel with such errors marks that level with a dashed line labelled
+        "exactly 0".
     reference_wall : float, optional
         Draws the reference run's wall time as a dotted vertical line.
     """
     from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
 
     fig = Figure(figsize=(10, 3.4), dpi=130, layout="constrained")
     axes = fig.subplots(1, len(metrics), squeeze=False)[0]
@@ -66,9 +70,22 @@ def error_vs_wall(
                       linestyle=style, label=label)  # fmt: skip
             for w, e, v in pts:
                 ax.annotate(f"{v}", (w, e), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        all_zero = all(r[metric] == 0 for r in rows)
+        if all_zero:
+            ax.set_ylim(floor / 10, floor * 10)  # nothing else to scale the axis by
+        if any(r[metric] == 0 for r in rows):
+            ax.axhline(floor, color="0.5", lw=0.7, ls="--")
+            ax.annotate(
+                "every run: exactly 0" if all_zero else "exactly 0", (0.01, floor),
+                xycoords=("axes fraction", "data"), xytext=(0, 3), textcoords="offset points",
+                fontsize=7, color="0.4",
+            )  # fmt: skip
         if reference_wall is not None:
             ax.axvline(reference_wall, color="k", lw=0.8, ls=":", label=reference_label)
         _plain_log_ticks(ax)
+        if all_zero:  # the axis has no scale to show
+            ax.yaxis.set_major_formatter(NullFormatter())
+            ax.yaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel("wall time (s)")
         ax.set_ylabel(f"{metric.replace('_', ' ')} error")
         ax.grid(True, which="both", alpha=0.3)

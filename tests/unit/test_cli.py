@@ -59,6 +59,7 @@ def test_set_override_and_quiet(write_scene, tmp_path, capsys):
         (["run", "SCENE", "-o", "/nonexistent-dir/x.h5"], "does not exist"),
         (["plot", "absent.h5"], "no such run file"),
         (["plot", "SCENE"], "not an HDF5 file"),
+        (["run", "SCENE", "--threads", "0"], "--threads 0: must be at least 1"),
     ],
 )
 def test_errors_exit_2_or_1_with_message(write_scene, capsys, args, expected):

@@ -261,3 +261,14 @@ def test_progress_is_reported_with_an_eta(tmp_path):
     assert seen[0].eta_s is None and seen[-1].eta_s == 0.0 and seen[-1].done == 8
     line = runner.format_progress(seen[4])
     assert line.startswith("4/8 runs, 0 failed, ") and "ETA" in line
+
+
+def test_each_run_gets_its_share_of_the_cores(monkeypatch):
+    from porenet.sweep.executors import LocalExecutor, SerialExecutor
+
+    monkeypatch.setattr(runner.os, "cpu_count", lambda: 8)
+    assert runner.threads_per_run(SerialExecutor(), None) == 8
+    assert runner.threads_per_run(LocalExecutor(3), None) == 2
+    assert runner.threads_per_run(LocalExecutor(16), None) == 1  # never below one
+    assert runner.threads_per_run(LocalExecutor(2), "tcp://remote:8786") == 1  # cores unknown
+    assert runner.threads_per_run(None, None) == 1
