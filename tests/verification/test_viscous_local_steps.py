@@ -124,24 +124,32 @@ def test_small_ca_is_invasion_percolation_with_trapping():
     np.testing.assert_array_equal(dyn.data.drained, ip.data.drained)
 
 
-@pytest.mark.parametrize(
-    "n, drained, fluid, lattice",
-    [
-        (32, 4, {"capillary_number": 1e-7}, {}),
-        (32, 80, {"capillary_number": 1e-5}, {"disorder": 0.95}),
-        (32, 80, {"capillary_number": 1e-5}, {"disorder": 0.01}),
-        (32, 80, {"capillary_number": 1e-5, "window_tolerance": 0.05}, {}),
-        (32, 80, {"capillary_number": 1e-5, "window_tolerance": 50.0}, {}),
-    ],
-    ids=["Ca=1e-7", "lambda=0.95", "lambda=0.01", "tight-window", "loose-window"],
-)
-def test_hard_cases_stay_finite_and_finish(n, drained, fluid, lattice):
+#: The hard cases: ``name -> (n, drained pores, fluid settings, lattice settings)``
+#: (docs/stability.md; ``python tests/benchmarks/report_local_steps_hard_cases.py``).
+HARD_CASES = {
+    "Ca=1e-7": (32, 4, {"capillary_number": 1e-7}, {}),
+    "lambda=0.95": (32, 80, {"capillary_number": 1e-5}, {"disorder": 0.95}),
+    "lambda=0.01": (32, 80, {"capillary_number": 1e-5}, {"disorder": 0.01}),
+    "tight-window": (32, 80, {"capillary_number": 1e-5, "window_tolerance": 0.05}, {}),
+    "loose-window": (32, 80, {"capillary_number": 1e-5, "window_tolerance": 50.0}, {}),
+}
+
+
+def hard_case(name: str) -> dict:
+    """The scene of one of :data:`HARD_CASES`."""
+    n, drained, fluid, lattice = HARD_CASES[name]
+    sc = scene(n=n, max_drained=drained, **fluid)
+    sc["lattice"].update(lattice)
+    return sc
+
+
+@pytest.mark.parametrize("name", HARD_CASES)
+def test_hard_cases_stay_finite_and_finish(name):
     """Extreme Ca, disorder and window tolerances, a few drained pores of a small lattice
     (its breakthrough where that comes first): finite pressures, balances at round-off, no
     runaway, and macro steps taken."""
-    sc = scene(n=n, max_drained=drained, **fluid)
-    sc["lattice"].update(lattice)
-    sim, result = simulate(sc)
+    drained = HARD_CASES[name][1]
+    sim, result = simulate(hard_case(name))
     assert result.summary["n_drained"] == drained or result.summary["breakthrough"]
     assert result.summary["macro_steps"] > 0
     assert result.summary["volume_balance_error"] < 1e-10
