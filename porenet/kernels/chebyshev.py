@@ -153,7 +153,7 @@ def _row_flux(
         out[j] = total
 
 
-@njit
+@njit(helper=True)
 def _stage_row(
     i: int,
     n: int,

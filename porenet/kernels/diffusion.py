@@ -161,7 +161,7 @@ def _row_interior(
     return stored, out
 
 
-@njit
+@njit(helper=True)
 def _sweep_row(
     i: int,
     n: int,

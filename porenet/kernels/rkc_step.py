@@ -216,7 +216,7 @@ def imex_stages(
     return k
 
 
-@njit
+@njit(helper=True)
 def _error_run(
     lo: int,
     hi: int,
