@@ -9,6 +9,11 @@ as plain (slow) Python, and a warning says so.
 for it (a no-op without numba), and :func:`trailing_zeros` is the hardware count of trailing
 zero bits of a non-zero 64-bit word (a de Bruijn multiplication where numba's intrinsic is
 missing). Use them inside kernels.
+
+Threads: :func:`pjit` compiles a kernel whose ``prange`` loops run on several threads,
+:func:`serial_and_parallel` one loop both ways (callers pick by :data:`PARALLEL_MIN`), and
+:func:`set_threads` / :func:`threads` set and read how many threads they use (the results do
+not depend on it; docs/architecture.md).
 """
 
 from __future__ import annotations
@@ -67,7 +72,8 @@ def njit(
 
 
 #: Boxes of at least this many pores are swept by several threads; below, starting them
-#: costs more than they save (~3 us per start against ~1.2 ns per pore and sweep).
+#: costs more than they save (the crossover is near 64 x 64 pores on 2 threads:
+#: ``python tests/benchmarks/bench_threads.py``, docs/performance.md).
 PARALLEL_MIN = 4096
 
 #: ``numba.prange`` (a loop whose iterations may run on several threads), ``range`` without
