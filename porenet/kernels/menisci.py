@@ -43,6 +43,13 @@ CONTROL_RATE, CONTROL_PRESSURE, CONTROL_RAMP = 0, 1, 2
 
 
 @njit(helper=True)
+def undrained_pore(tp: np.ndarray, drained: np.ndarray, f: int) -> int:
+    """The undrained pore of frontier throat ``f`` (the pore its meniscus enters)."""
+    a = tp[f, 0]
+    return tp[f, 1] if drained[a] else a
+
+
+@njit(helper=True)
 def pore_response(
     i: int, pnew: float, dt: float, menisci: tuple
 ) -> tuple[float, float, float, int, float]:

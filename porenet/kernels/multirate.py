@@ -42,6 +42,7 @@ import numpy as np
 from porenet.kernels._jit import njit
 from porenet.kernels.chebyshev import sweep
 from porenet.kernels.diffusion import set_add, set_remove
+from porenet.kernels.menisci import undrained_pore
 from porenet.kernels.rkc_step import imex_stages
 from porenet.kernels.window import (
     COARSE,
@@ -50,6 +51,7 @@ from porenet.kernels.window import (
     RING_P0,
     RING_RATE,
     book_shadow,
+    inside,
 )
 
 #: Width (standard deviation, pores) and reach of the Gaussian over which a ring throat's
@@ -237,10 +239,7 @@ def far_update(
             stored += vol[c] * dp
     outflow = 0.0
     for e in range(wi[2], wi[2] + wi[5]):
-        w = ring_i[0, e]
-        i = w // grid_n
-        j = w - i * grid_n
-        if not (wbox[0] <= i < wbox[1] and wbox[2] <= j < wbox[3]):
+        if not inside(wbox, grid_n, ring_i[0, e]):
             outflow += theta * ring_f[RING_COARSE, e]
     largest = 0.0
     for e in range(wi[2]):
@@ -307,11 +306,7 @@ def split_front(
     n_w = n_far = 0
     for s in range(nf):
         f = front[s]
-        a = tp[f, 0]
-        k = tp[f, 1] if drained[a] else a
-        i = k // n
-        j = k - i * n
-        if wbox[0] <= i < wbox[1] and wbox[2] <= j < wbox[3]:
+        if inside(wbox, n, undrained_pore(tp, drained, f)):
             wfront[n_w] = f
             wfpos[f] = n_w
             n_w += 1
@@ -338,8 +333,7 @@ def far_level(
     level = np.inf
     for s in range(n_far):
         f = far[s]
-        a = tp[f, 0]
-        i = tp[f, 1] if drained[a] else a
+        i = undrained_pore(tp, drained, f)
         level = min(level, pe[f] + min(p0[i], p0[i] + h * rate[i]))
     return level
 

@@ -65,9 +65,10 @@ from porenet.kernels.menisci import (
     CONTROL_RATE,
     invader_pressure,
     meniscus_fluxes,
+    undrained_pore,
 )
 from porenet.kernels.rkc_step import imex_stages, implicit_rate, pump_rate, step_error
-from porenet.kernels.viscous import STATUS, _list_meniscus, _other, explicit_advance
+from porenet.kernels.viscous import STATUS, _list_meniscus, explicit_advance
 from porenet.kernels.window import (
     CUT,
     CUT_FAR_MENISCUS,
@@ -145,7 +146,7 @@ def _list_candidates(
     n_near = 0
     for s in range(nf):
         f = front[s]
-        i = _other(tp, drained, f)
+        i = undrained_pore(tp, drained, f)
         if windowed and not inside(win[2], grid_n, i):
             d = pinv - far_pressure(win, i, t)
             if (latching and latched[f]) or d > pe[f] * (1.0 - 1e-9):
@@ -169,7 +170,7 @@ def _list_candidates(
         rise = max(invader_pressure(h, n_on, menisci0, pump0) - pinv, 0.0)
         for r in range(n_near):
             f = near[r]
-            i = _other(tp, drained, f)
+            i = undrained_pore(tp, drained, f)
             if pinv - p[i] > pe[f] - rise - h * abs(f0[i]) * inv_vol[i]:
                 n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
                 cand[f] = True
@@ -397,7 +398,7 @@ def rkc_advance(
                 reject = 0.5
         for s in range(nf if reject == 0.0 else 0):
             f = front[s]
-            i = _other(tp, drained, f)
+            i = undrained_pore(tp, drained, f)
             if cand[f]:
                 continue
             if windowed and not inside(win[2], grid_n, i):

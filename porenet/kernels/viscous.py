@@ -58,6 +58,7 @@ from porenet.kernels.menisci import (
     landing_step,
     pore_after,
     step_change,
+    undrained_pore,
 )
 from porenet.kernels.window import (
     CUT_FAR_MENISCUS,
@@ -118,13 +119,6 @@ STATUS = {
     5: "no meniscus left",
     6: "stationary",
 }
-
-
-@njit(helper=True)
-def _other(tp: np.ndarray, drained: np.ndarray, f: int) -> int:
-    """The undrained pore of frontier throat ``f``."""
-    a = tp[f, 0]
-    return tp[f, 1] if drained[a] else a
 
 
 @njit(helper=True)
@@ -388,7 +382,7 @@ def explicit_advance(
         n_near = 0  # below their threshold by less than reach: near[:n_near]
         for s in range(nf):
             f = front[s]
-            i = _other(tp, drained, f)
+            i = undrained_pore(tp, drained, f)
             if windowed and not inside(win[2], grid_n, i):
                 # outside the window: the macro step ends before this meniscus may start
                 d = pinv - far_pressure(win, i, t)
@@ -416,7 +410,7 @@ def explicit_advance(
             rise = invader_pressure(dt_hi, n_on, menisci, pump) - pinv
             for r in range(n_near):
                 f = front[near[r]]
-                i = _other(tp, drained, f)
+                i = undrained_pore(tp, drained, f)
                 if pinv - p[i] > pe[f] - rise:
                     n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
             if grid_n > 0:

@@ -38,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit
+from porenet.kernels.menisci import undrained_pore
 
 #: Slots of ``wi``: the mode (:data:`OFF`, :data:`FINE`, :data:`COARSE`), the edge margin,
 #: the ring throats and the window's outlet links (listed after them), and after a cut its
@@ -221,8 +222,7 @@ def far_meniscus(
         return -1
     for s in range(wi[6]):
         f = far[s]
-        a = tp[f, 0]
-        i = tp[f, 1] if drained[a] else a
+        i = undrained_pore(tp, drained, f)
         if pinv - far_pressure(win, i, t) > pe[f] - margin:
             return i
     return -1

@@ -25,10 +25,9 @@ import numpy as np
 from porenet.kernels._jit import njit
 from porenet.kernels.chebyshev import stage_count, sweep
 from porenet.kernels.diffusion import grow_where_reached
-from porenet.kernels.menisci import meniscus_fluxes
+from porenet.kernels.menisci import meniscus_fluxes, undrained_pore
 from porenet.kernels.rkc import _add_active, _list_candidates, _unlist
 from porenet.kernels.rkc_step import _scaled_rate, imex_stages, step_error
-from porenet.kernels.viscous import _other
 from porenet.kernels.window import no_window
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -95,7 +94,7 @@ def _front_checks(reps, front, nf, tp, drained, cand, ps, p, ds, pe):
     for _ in range(reps):
         for s in range(nf):
             f = front[s]
-            i = _other(tp, drained, f)
+            i = undrained_pore(tp, drained, f)
             if not cand[f] and ps - p[i] - ds[i] > pe[f]:
                 c += 1
                 break
