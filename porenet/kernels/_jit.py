@@ -11,7 +11,7 @@ zero bits of a non-zero 64-bit word (a de Bruijn multiplication where numba's in
 missing). Use them inside kernels.
 
 Threads: :func:`pjit` compiles a kernel whose ``prange`` loops run on several threads,
-:func:`serial_and_parallel` one loop both ways (callers pick by :data:`PARALLEL_MIN`), and
+:func:`serial_and_parallel` one loop both ways (callers pick by :func:`threaded_box`), and
 :func:`set_threads` / :func:`threads` set and read how many threads they use (the results do
 not depend on it; docs/architecture.md).
 """
@@ -75,6 +75,14 @@ def njit(
 #: costs more than they save (the crossover is near 64 x 64 pores on 2 threads:
 #: ``python tests/benchmarks/bench_threads.py``, docs/performance.md).
 PARALLEL_MIN = 4096
+
+
+@njit(helper=True)
+def threaded_box(box: np.ndarray) -> bool:
+    """Whether the box (rows ``[box[0], box[1])``, columns ``[box[2], box[3])``) has
+    :data:`PARALLEL_MIN` pores or more: its row loops then run on several threads."""
+    return (box[1] - box[0]) * (box[3] - box[2]) >= PARALLEL_MIN
+
 
 #: ``numba.prange`` (a loop whose iterations may run on several threads), ``range`` without
 #: numba.

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from porenet.kernels._jit import PARALLEL_MIN, njit, prange, serial_and_parallel
+from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
 from porenet.kernels.diffusion import csr_fluxes, grid_flux
 
 #: Most stages of one step (the step is cut to what they make stable).
@@ -266,7 +266,7 @@ def grid_stage(
     threads."""
     rows = box[1] - box[0]
     partial = np.empty(max(rows, 0))
-    if rows * (box[3] - box[2]) >= PARALLEL_MIN:
+    if threaded_box(box):
         _stage_rows_parallel(n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out,
                              flux_only, partial)  # fmt: skip
     else:

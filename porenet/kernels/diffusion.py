@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import PARALLEL_MIN, njit, prange, serial_and_parallel
+from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
 
 
 @njit(helper=True)
@@ -262,7 +262,7 @@ def grid_sweep(
     order, so the result does not depend on their number."""
     rows = box[1] - box[0]
     partial = np.empty((2, max(rows, 0)))
-    if rows * (box[3] - box[2]) >= PARALLEL_MIN:
+    if threaded_box(box):
         _sweep_rows_parallel(n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next, partial)
     else:
         _sweep_rows_serial(n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next, partial)
@@ -287,7 +287,7 @@ _copy_rows_serial, _copy_rows_parallel = serial_and_parallel(_copy_rows)
 @njit
 def copy_rows(n: int, box: np.ndarray, src: np.ndarray, dst: np.ndarray) -> None:
     """``dst = src`` over the box of an n x n grid (by several threads on a large box)."""
-    if (box[1] - box[0]) * (box[3] - box[2]) >= PARALLEL_MIN:
+    if threaded_box(box):
         _copy_rows_parallel(n, box, src, dst)
     else:
         _copy_rows_serial(n, box, src, dst)

@@ -57,7 +57,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import PARALLEL_MIN, njit, prange, serial_and_parallel
+from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
 from porenet.kernels.chebyshev import MAX_STAGES, longest_step, stage_count, sweep
 from porenet.kernels.diffusion import grow_where_reached, spread
 from porenet.kernels.menisci import (
@@ -209,7 +209,7 @@ def _add_active(field: tuple, src: np.ndarray, dst: np.ndarray) -> None:
     """``dst += src`` over the active pores (on grids row by row, :func:`_row_add`: the slice
     expression ``dst[a:b] += src[a:b]`` took 3x as long; several threads on a large box)."""
     grid_n, box, na, act = field[0], field[1], field[2], field[3]
-    if grid_n > 0 and (box[1] - box[0]) * (box[3] - box[2]) >= PARALLEL_MIN:
+    if grid_n > 0 and threaded_box(box):
         _add_rows_parallel(grid_n, box, src, dst)
     elif grid_n > 0:
         _add_rows_serial(grid_n, box, src, dst)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import PARALLEL_MIN, njit, prange, serial_and_parallel
+from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
 from porenet.kernels.chebyshev import coefficients, sweep
 from porenet.kernels.menisci import (
     CONTROL_PRESSURE,
@@ -94,7 +94,7 @@ def _scaled_rate(field: tuple, f: np.ndarray, dt: float, out: np.ndarray) -> Non
     """``out = dt f / V`` over the active pores of ``field`` (the first stage's increment)."""
     grid_n, box, na, act = field[0], field[1], field[2], field[3]
     inv_vol = field[10]
-    if grid_n > 0 and (box[1] - box[0]) * (box[3] - box[2]) >= PARALLEL_MIN:
+    if grid_n > 0 and threaded_box(box):
         _scaled_rows_parallel(grid_n, box, f, inv_vol, dt, out)
     elif grid_n > 0:
         _scaled_rows_serial(grid_n, box, f, inv_vol, dt, out)
@@ -293,7 +293,7 @@ def step_error(
     count = (box[1] - box[0]) if grid_n > 0 else na
     partial = np.empty((3, max(count, 0)))
     args = (h, grid_n, box, act, count, ds, f0, fnew, fi, vol, inv_vol, partial)
-    if grid_n > 0 and count * (box[3] - box[2]) >= PARALLEL_MIN:
+    if grid_n > 0 and threaded_box(box):
         _error_rows_parallel(*args)
     else:
         _error_rows_serial(*args)

@@ -65,18 +65,26 @@ CUT = 8
 CUT_FAR_MENISCUS, CUT_NEAR_EDGE = 1, 2
 
 
-def no_window(n_pores: int) -> tuple:
-    """A window that is off (the integrators then sweep their whole box)."""
+def window_arrays(mode: int, entries: int, n_pores: int, n_throats: int) -> tuple:
+    """The tuple ``win`` in ``mode``, with room for ``entries`` ring throats and outlet links,
+    and ``p0``, ``rate`` and ``far`` of ``n_pores``, ``n_pores`` and ``n_throats``."""
+    wi = np.zeros(N_WI, dtype=np.int64)
+    wi[0] = mode
     return (
-        np.zeros(N_WI, dtype=np.int64),
+        wi,
         np.zeros(N_WF),
         np.zeros(4, dtype=np.int64),
-        np.zeros((3, 0), dtype=np.int64),
-        np.zeros((N_RING_F, 0)),
-        np.zeros(0),
-        np.zeros(0),
-        np.zeros(0, dtype=np.int64),
+        np.zeros((3, entries), dtype=np.int64),
+        np.zeros((N_RING_F, entries)),
+        np.zeros(n_pores),
+        np.zeros(n_pores),
+        np.zeros(n_throats, dtype=np.int64),
     )
+
+
+def no_window() -> tuple:
+    """A window that is off (the integrators then sweep their whole box)."""
+    return window_arrays(OFF, 0, 0, 0)
 
 
 @njit(helper=True)

@@ -162,7 +162,7 @@ def main() -> None:
     pump0 = (fl._control, acc[1], fl._q, capacity, fl._ramp)
     latched = fl._latched.copy()
     listing = (h, menisci0, pump0, fl._front, nf, fl._tp, drained, fl._pe, latched,
-               fl.config.meniscus == "latching", inv_vol, cand, near, no_window(n_p),
+               fl.config.meniscus == "latching", inv_vol, cand, near, no_window(),
                fl._grid_n, acc[0])  # fmt: skip
     sweep_ms = timed("flux sweep (for scale)", _flux_sweeps, field, p, np.zeros(n_p))
     ybuf = np.zeros((3, n_p))
@@ -178,7 +178,7 @@ def main() -> None:
     stages = (h, m, field, p, f0, out0, ybuf, np.zeros(n_p), np.zeros(n_p), n_on, menisci0,
               pump0, q0, np.zeros((3, n_thr)), np.zeros((3, n_thr)), np.zeros(3),
               np.zeros((3, 2)), np.zeros(n_thr), np.zeros(n_thr, dtype=np.bool_),
-              no_window(n_p))  # fmt: skip
+              no_window())  # fmt: skip
     all_ms = timed(f"imex_stages ({m} stages, for scale)", _stages, *stages, reps=20)
     print(f"{'  of which not stage sweeps':44s} {all_ms - (m - 1) * stage_ms:8.4f} ms")
     k = imex_stages(*stages)

@@ -57,14 +57,14 @@ def step_errors(fl, drained: np.ndarray, h: float) -> tuple[np.ndarray, int, int
     pump0 = (fl._control, acc[1], fl._q, capacity, fl._ramp)
     n_on = _list_candidates(h, menisci0, pump0, fl._front, int(cnt[2]), fl._tp, drained, fl._pe,
                             fl._latched.copy(), fl.config.meniscus == "latching", inv_vol, cand,
-                            near, no_window(n_p), fl._grid_n, acc[0])  # fmt: skip
+                            near, no_window(), fl._grid_n, acc[0])  # fmt: skip
     q0 = np.zeros(n_thr)
     meniscus_fluxes(fl.dt_stable, n_on, menisci0, pump0, q0)
     ybuf = np.zeros((3, n_p))
     k = imex_stages(h, m, field, p, f0, out0, ybuf, np.zeros(n_p), np.zeros(n_p), n_on,
                     menisci0, pump0, q0, np.zeros((3, n_thr)), np.zeros((3, n_thr)),
                     np.zeros(3), np.zeros((3, 2)), np.zeros(n_thr),
-                    np.zeros(n_thr, dtype=np.bool_), no_window(n_p))  # fmt: skip
+                    np.zeros(n_thr, dtype=np.bool_), no_window())  # fmt: skip
     ds = ybuf[k].copy()
     sweep(field, ds, ds, f0, ZERO, scratch, True)  # scratch = L ds
     err = np.abs(-0.8 * ds + 0.4 * h * (2.0 * f0 + scratch) * inv_vol)

@@ -38,15 +38,7 @@ import numpy as np
 from porenet.kernels import multirate as mk
 from porenet.kernels.chebyshev import MAX_STAGES, longest_step, stage_count
 from porenet.kernels.diffusion import grow_where_reached
-from porenet.kernels.window import (
-    CUT,
-    CUT_FAR_MENISCUS,
-    FINE,
-    N_RING_F,
-    N_WF,
-    N_WI,
-    RING_COARSE,
-)
+from porenet.kernels.window import CUT, CUT_FAR_MENISCUS, FINE, RING_COARSE, window_arrays
 
 #: Candidate windows of a coarse step: their reach beyond the hot pores, as multiples of the
 #: reach the last coarse steps needed.
@@ -93,7 +85,7 @@ class LocalSteps:
         self.n = n
         n_pores = n * n
         n_throats = len(fluid._pe)
-        self.win = self._window_arrays(FINE, 4 * n * (len(LEVELS) + 1), n_pores, n_throats)
+        self.win = window_arrays(FINE, 4 * n * (len(LEVELS) + 1), n_pores, n_throats)
         #: The window's own front (its menisci) and their slots, and counters, for the fine
         #: integration (:func:`porenet.kernels.multirate.split_front`).
         self._wfront = np.zeros(n_throats, dtype=np.int64)
@@ -109,21 +101,6 @@ class LocalSteps:
         self._kappa = 0.5  # the least reach, per sqrt(H rho) (see _floor)
         self.stats = dict.fromkeys(STATS, 0)
         self.last: dict[str, Any] = {}  # the last macro step, for diagnostics
-
-    @staticmethod
-    def _window_arrays(mode: int, entries: int, n_pores: int, n_throats: int) -> tuple:
-        wi = np.zeros(N_WI, dtype=np.int64)
-        wi[0] = mode
-        return (
-            wi,
-            np.zeros(N_WF),
-            np.zeros(4, dtype=np.int64),
-            np.zeros((3, entries), dtype=np.int64),
-            np.zeros((N_RING_F, entries)),
-            np.zeros(n_pores),
-            np.zeros(n_pores),
-            np.zeros(n_throats, dtype=np.int64),
-        )
 
     # -- where -----------------------------------------------------------------------------
     def _menisci(self, drained: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

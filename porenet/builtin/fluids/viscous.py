@@ -370,7 +370,7 @@ class ViscousDrainage(FluidModel):
         self._cnt = np.zeros(vk.N_CNT, dtype=np.int64)
         self._order, self._via = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
         self._series = np.zeros((n, len(vk.SERIES)))
-        self._no_window = no_window(n)
+        self._no_window = no_window()
         #: Scratch the kernels keep clean between calls (see rkc_advance's ``work``).
         self._work = (np.full(n, -1, dtype=np.int64), np.zeros(m, dtype=bool), np.zeros(n))
         self._local: Any = None  # LocalSteps, built at the first RKC call where they apply
