@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from porenet.core.errors import NumericalError
 from porenet.kernels import multirate as mk
 from porenet.kernels.chebyshev import MAX_STAGES, longest_step, stage_count
 from porenet.kernels.diffusion import grow_where_reached
@@ -92,6 +93,7 @@ class LocalSteps:
         self._wfpos = np.full(n_throats, -1, dtype=np.int64)
         self._p1 = np.zeros(n_pores)
         self._scratch = np.zeros(n_pores)
+        self._inv_vol = 1.0 / fluid._vol  # pore volumes do not change: no coupled solid
         self._ebox = np.zeros(4, dtype=np.int64)
         self._hot_time: list[float] = []
         self._hot_pore: list[int] = []
@@ -101,6 +103,12 @@ class LocalSteps:
         self._kappa = 0.5  # the least reach, per sqrt(H rho) (see _floor)
         self.stats = dict.fromkeys(STATS, 0)
         self.last: dict[str, Any] = {}  # the last macro step, for diagnostics
+
+    def _field(self, box: np.ndarray) -> tuple:
+        """The sweep tuple of :func:`porenet.kernels.chebyshev.sweep` over ``box``."""
+        f = self.fluid
+        return (f._grid_n, box, int(f._cnt[3]), f._act, f._apos, *f._csr, f._g_eff, f._g_out,
+                self._inv_vol, self._scratch, box)  # fmt: skip
 
     # -- where -----------------------------------------------------------------------------
     def _menisci(self, drained: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -227,14 +235,14 @@ class LocalSteps:
                 return None
             nbox = f._box
             grow_where_reached(nbox, n, f._p, f.config.pressure_floor, m + 1)
-            limit = self.max_share * (nbox[1] - nbox[0]) * (nbox[3] - nbox[2])
+            limit = self.max_share * _area(nbox)
             floor = self._floor(h)
             base = max(self._predicted_reach(h), least, floor)
             reaches = sorted({math.ceil(c * base) for c in LEVELS} | {least})
             boxes = []
             for reach in reaches:
                 box = self._grown(hot, max(reach, floor))
-                if (box[1] - box[0]) * (box[3] - box[2]) > limit:
+                if _area(box) > limit:
                     break
                 if not boxes or box.tolist() != boxes[-1].tolist():
                     boxes.append(box)
@@ -249,17 +257,19 @@ class LocalSteps:
             wi[2] = starts[-1]
             wi[5] = mk.outlet_links(n, nbox, f._g_out, ring_i, wi[2])
             win[2][:] = boxes[-1]
-            field = f._field(nbox, self._scratch)
+            field = self._field(nbox)
             outflow = mk.coarse_step(
                 field, f._p, win, h, m, sources, rates, f._ybuf, f._f0, f._fnew, f._zero,
                 self._p1, menisci0, pump0, self.window_tolerance * tol, self._ebox,
             )  # fmt: skip
             if not math.isfinite(outflow):
-                raise FloatingPointError(
-                    f"local time steps: non-finite coarse step at t = {f._acc[0]:g}"
+                raise NumericalError(
+                    f"viscous model (local time steps): non-finite coarse step at "
+                    f"t = {f._acc[0]:g} (scaled) after {int(f._cnt[1])} steps and "
+                    f"{int(f._cnt[0])} drained pores"
                 )
             self.stats["coarse_stage_sweeps"] += m
-            self.stats["coarse_pore_stages"] += m * int((nbox[1] - nbox[0]) * (nbox[3] - nbox[2]))
+            self.stats["coarse_pore_stages"] += m * _area(nbox)
             needed = self._needed(hot, self._ebox)
             measured = max(needed - 1, 0) / math.sqrt(h)
             self._reach = measured if self._reach == 0.0 else 0.8 * self._reach + 0.2 * measured
@@ -275,7 +285,7 @@ class LocalSteps:
                     win[2][:] = box
                     return h, box, hot
             self.stats["coarse_rejected_steps"] += 1
-            if (want[1] - want[0]) * (want[3] - want[2]) > limit:
+            if _area(want) > limit:
                 h *= 0.5  # no window within the share holds the step's errors
                 least = 0
             else:
@@ -305,7 +315,7 @@ class LocalSteps:
         gaps = [hot[0] - wbox[0], wbox[1] - hot[1], hot[2] - wbox[2], wbox[3] - hot[3]]
         wi[1] = max(2, min(gaps) // 2)
         wi[3] = wi[4] = -1
-        field = f._field(nbox, self._scratch)
+        field = self._field(nbox)
         mk.start_fine(win, f._p, self._p1, field, t0, h)
         drained = state.drained
         n_w, wi[6] = mk.split_front(self.n, wbox, f._front, int(f._cnt[2]), f._tp, drained,
@@ -317,7 +327,7 @@ class LocalSteps:
         stages0, explicit0 = f._ctrl[1], f._ctrl[4]
         cnt = f._cnt.copy()
         cnt[2] = n_w
-        status = f._rkc_window(state, budget, t0 + h, wbox, win, (self._wfront, self._wfpos, cnt))
+        status = f._rkc_single(state, budget, t0 + h, wbox, win, (self._wfront, self._wfpos, cnt))
         f._cnt[[0, 1, 3, 4, 5]] = cnt[[0, 1, 3, 4, 5]]
         mk.merge_front(f._order, events0, int(cnt[0]), *f._csr, drained, f._front, f._fpos,
                        f._cnt, self._wfront, int(cnt[2]), self._wfpos)  # fmt: skip
@@ -331,7 +341,7 @@ class LocalSteps:
         f._acc[4] += stored
         f._acc[5] += far_out
         f._acc[11] = 0.0
-        w_pores = int((wbox[1] - wbox[0]) * (wbox[3] - wbox[2]))
+        w_pores = _area(wbox)
         fine = f._ctrl[1] - stages0 + f._ctrl[4] - explicit0
         self.stats["window_pore_stages"] += int(fine * w_pores)
         self.stats["macro_steps"] += 1
@@ -359,7 +369,7 @@ class LocalSteps:
         cap = h * max(fac, 0.2)
         self.H = min(cap, self._cheapest(cap, hot)[0])
         self.last = {"h": h, "theta": theta, "reflux": reflux / tol, "status": status,
-                     "window": w_pores, "hot": int((hot[1] - hot[0]) * (hot[3] - hot[2])),
+                     "window": w_pores, "hot": _area(hot),
                      "next": self.H}  # fmt: skip
         return status
 
@@ -408,7 +418,7 @@ class LocalSteps:
         active box, or the active box is smaller than :attr:`min_box` (unless ``on``)."""
         f = self.fluid
         nbox = f._box
-        area = int((nbox[1] - nbox[0]) * (nbox[3] - nbox[2]))
+        area = _area(nbox)
         if area < self.min_box and not self.always:
             return None
         h, cost = self._cheapest(self.H, hot)
@@ -428,3 +438,8 @@ class LocalSteps:
         if k > since:
             self._hot_time.extend(float(x) for x in f._series[since:k, 0])
             self._hot_pore.extend(int(x) for x in f._order[since:k])
+
+
+def _area(box: np.ndarray) -> int:
+    """The pores of a box (rows ``[box[0], box[1])``, columns ``[box[2], box[3])``)."""
+    return int((box[1] - box[0]) * (box[3] - box[2]))

@@ -524,20 +524,6 @@ class ViscousDrainage(FluidModel):
             and self.step_limit is None
         )
 
-    def _rkc_window(
-        self,
-        state: State,
-        budget: int,
-        t_end: float,
-        wbox: np.ndarray,
-        win: tuple,
-        front: tuple[np.ndarray, np.ndarray, np.ndarray],
-    ) -> int:
-        """The fine integration of one macro step of local time steps: RKC over the window,
-        with the window's own front ``(front, fpos, cnt)`` (a copy of the counters whose
-        slot 2 counts it)."""
-        return self._rkc_single(state, budget, t_end, wbox, win, front)
-
     def _rkc_single(
         self,
         state: State,
@@ -547,6 +533,10 @@ class ViscousDrainage(FluidModel):
         win: tuple | None = None,
         front: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
     ) -> int:
+        """Single-rate RKC steps over the active box; or, given ``wbox``, ``win`` and
+        ``front``, the fine integration of one macro step of local time steps: RKC over the
+        window ``wbox`` with the window's own front ``(front, fpos, cnt)`` (a copy of the
+        counters whose slot 2 counts it)."""
         from porenet.kernels import rkc
 
         cfg, stop = self.config, self.context.stop
@@ -565,13 +555,6 @@ class ViscousDrainage(FluidModel):
             MENISCUS_LENGTH, budget, t_end, cfg.max_steps, stop.at == "breakthrough",
             self._step_chunk(), self._box, self._no_window if win is None else win, self._work,
         )  # fmt: skip
-
-    def _field(self, box: np.ndarray, scratch: np.ndarray) -> tuple:
-        """The sweep tuple of :func:`porenet.kernels.chebyshev.sweep` over ``box``."""
-        if getattr(self, "_inv_vol", None) is None:
-            self._inv_vol = 1.0 / self._vol
-        return (self._grid_n, box, int(self._cnt[3]), self._act, self._apos, *self._csr,
-                self._g_eff, self._g_out, self._inv_vol, scratch, box)  # fmt: skip
 
     def _no_menisci(self) -> tuple[tuple, tuple]:
         """The menisci and pump tuples of :func:`porenet.kernels.rkc_step.imex_stages` for a

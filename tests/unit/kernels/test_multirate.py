@@ -76,7 +76,7 @@ def test_coarse_shadow_sums_book_the_window_exactly(fluid):
     rates = np.array([0.7, 0.3])
     h = 40.0
     m = stage_count(h, fluid.spectral_radius)
-    field = fluid._field(fluid._box, steps._scratch)
+    field = steps._field(fluid._box)
     menisci0, pump0 = fluid._no_menisci()
     p1 = np.zeros_like(fluid._p)
     ebox = np.zeros(4, dtype=np.int64)
@@ -106,7 +106,7 @@ def test_far_update_conserves_volume(fluid):
     steps, win = _window(fluid, wbox)
     sources = np.array([15 * N + 5], dtype=np.int64)
     h = 25.0
-    field = fluid._field(fluid._box, steps._scratch)
+    field = steps._field(fluid._box)
     menisci0, pump0 = fluid._no_menisci()
     p1 = np.zeros_like(fluid._p)
     mk.coarse_step(
