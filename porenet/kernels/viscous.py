@@ -122,6 +122,14 @@ STATUS = {
 
 
 @njit(helper=True)
+def _unlink(n_on: int, on_p: np.ndarray, head: np.ndarray) -> None:
+    """Clear the per-pore links of a step's ``n_on`` candidate menisci (``head`` is -1
+    everywhere between steps and calls)."""
+    for s in range(n_on):
+        head[on_p[s]] = -1
+
+
+@njit(helper=True)
 def _list_meniscus(
     f: int,
     i: int,
@@ -387,8 +395,7 @@ def explicit_advance(
                 # outside the window: the macro step ends before this meniscus may start
                 d = pinv - far_pressure(win, i, t)
                 if (latching and latched[f]) or d > pe[f] - reach:
-                    for r in range(n_on):
-                        head[on_p[r]] = -1
+                    _unlink(n_on, on_p, head)
                     return cut(win, CUT_FAR_MENISCUS, i)
                 continue
             d = pinv - p[i]
@@ -417,8 +424,7 @@ def explicit_advance(
                 for s in range(n_sure, n_on):
                     flux[on_p[s]] = grid_flux(grid_n, nbox, on_p[s], p, g_eff, g_out)
         if control == CONTROL_PRESSURE and last_rate * dt_max <= floor:
-            for s in range(n_on):
-                head[on_p[s]] = -1
+            _unlink(n_on, on_p, head)
             return 6
         # Step length: the stability limit, the end time, the accuracy limit, and the first
         # meniscus to land on 0.
@@ -473,8 +479,7 @@ def explicit_advance(
                 p[act[s]] = p_next[act[s]]
         else:
             copy_rows(grid_n, box, p_next, p)
-        for s in range(n_on):
-            head[on_p[s]] = -1
+        _unlink(n_on, on_p, head)
         if not windowed:
             spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
         acc[3] += qsum * dt
