@@ -200,6 +200,8 @@ def main() -> None:
         help="redraw the figure (--out) of a table written by --table, without running",
     )
     args = parser.parse_args()
+    if args.snapshots < 1:
+        parser.error(f"--snapshots {args.snapshots}: must be at least 1")
     if args.from_table:
         if not args.out:
             parser.error("--from-table needs --out")
