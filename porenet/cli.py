@@ -11,6 +11,7 @@ import argparse
 import json
 import logging
 import sys
+import time
 from pathlib import Path
 
 from porenet._version import __version__
@@ -52,13 +53,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     output = Path(args.output) if args.output else Path(f"{source.stem}.h5")
     if args.plot and not Path(args.plot).resolve().parent.is_dir():
         raise ConfigError(f"--plot {args.plot}: directory does not exist")
-    progress = not args.quiet and sys.stderr.isatty()
-    if args.threads is not None:
-        from porenet.kernels._jit import set_threads
-
-        if args.threads < 1:
-            raise ConfigError(f"--threads {args.threads}: must be at least 1")
-        set_threads(args.threads)
+    progress = not args.quiet
+    _configure_threads(args.threads)
     sim = Simulation.from_scene(source, args.overrides, output=output, progress=progress)
     result = sim.run()
     s = result.summary
@@ -87,6 +83,42 @@ def cmd_run(args: argparse.Namespace) -> int:
         save_figure(result.plot(), args.plot)
         if not args.quiet:
             print(f"figure: {args.plot}")
+    return 0
+
+
+def _configure_threads(value: str | None) -> None:
+    """``--threads auto`` (the default) or ``--threads N`` (docs/performance.md, "Threads on a
+    busy machine")."""
+    from porenet.threads import configure_threads
+
+    if value is None or value == "auto":
+        configure_threads("auto")
+        return
+    try:
+        count = int(value)
+    except ValueError:
+        raise ConfigError(f"--threads {value}: give a number of threads or 'auto'") from None
+    if count < 1:
+        raise ConfigError(f"--threads {value}: must be at least 1")
+    configure_threads(count)
+
+
+def cmd_compile(args: argparse.Namespace) -> int:
+    from porenet.compilation import compile_all
+
+    t0 = time.perf_counter()
+
+    def done(name: str, seconds: float) -> None:
+        if not args.quiet:
+            state = f"compiled in {seconds:.1f} s" if seconds > 0 else "already compiled"
+            print(f"{name}: {state}", flush=True)
+
+    total = compile_all(on_done=done)
+    if not args.quiet:
+        print(
+            f"porenet compile: {total:.1f} s of compilation, {time.perf_counter() - t0:.1f} s "
+            "in all; later runs on this machine load the kernels from the cache"
+        )
     return 0
 
 
@@ -282,11 +314,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     p.add_argument(
         "--threads",
-        type=int,
         metavar="N",
-        help="threads of the parallel kernels (default: every core; results do not depend on it)",
+        help="threads of the parallel kernels: a number, or 'auto' (the default: the run "
+        "measures itself on 1 thread and on every core and keeps the faster); results do "
+        "not depend on it",
     )
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser(
+        "compile",
+        help="compile every kernel now (once per machine; e.g. for a cluster or a container)",
+        description="Compile (or load from numba's cache) every kernel of porenet's built-in "
+        "models by running tiny scenes, so that no later run on this machine compiles.",
+    )
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(func=cmd_compile)
 
     p = sub.add_parser("validate", help="check a scene without running it")
     _add_scene_args(p)

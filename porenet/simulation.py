@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import logging
+import sys
 import time
 from typing import Any
 
 import numpy as np
 
 from porenet._version import __version__
+from porenet.compilation import CompileNotice
 from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.interfaces import (
     Classifier,
@@ -25,6 +27,7 @@ from porenet.core.state import State
 from porenet.core.units import Scales
 from porenet.kernels.bursts import burst_sizes
 from porenet.result import RunData, RunResult
+from porenet.threads import CALL_SECONDS, ThreadGovernor, thread_setting
 
 log = logging.getLogger(__name__)
 
@@ -45,17 +48,24 @@ class Simulation:
         plan: Plan,
         registry: Registry | None = None,
         observers: list[Observer] | tuple[Observer, ...] = (),
+        report: bool = False,
     ) -> None:
         from porenet.hooks import get_registry
 
         t0 = time.perf_counter()
         self.plan = plan
         self.registry = registry or get_registry()
+        #: ``report``: write what the run does to stderr (a start line, compiling kernels).
+        self.report = report
+        self.compile_notice = CompileNotice(enabled=report)
         scene = plan.scene
         lattice_seed, model_seed = np.random.SeedSequence(scene.seed).spawn(2)
         try:
             lattice_cls = self.registry.get("lattice", scene.lattice.kind).load()
-            self.lattice: Lattice = lattice_cls(scene.lattice, np.random.default_rng(lattice_seed))
+            with self.compile_notice.phase(f"the {scene.lattice.kind!r} lattice"):
+                self.lattice: Lattice = lattice_cls(
+                    scene.lattice, np.random.default_rng(lattice_seed)
+                )
         except ValueError as exc:
             raise ConfigError(f"lattice: {exc}") from exc
         self.scales = Scales.from_physics(
@@ -105,7 +115,11 @@ class Simulation:
         progress: bool = False,
         registry: Registry | None = None,
     ) -> Simulation:
-        """Validate ``scene`` (path, dict or SceneConfig), plan it and build the simulation."""
+        """Validate ``scene`` (path, dict or SceneConfig), plan it and build the simulation.
+
+        ``progress``: show a start line and progress on stderr (a status line on a terminal,
+        a line every ~30 s or ~10 % of the estimate elsewhere), and say when kernels compile.
+        """
         from porenet.builtin.observers.progress import Progress
         from porenet.builtin.observers.runfile import RunFileWriter
         from porenet.config.loading import load_scene
@@ -119,7 +133,7 @@ class Simulation:
             extra.append(Progress())
         if output is not None:
             extra.append(RunFileWriter(output))
-        return cls(plan, registry, extra)
+        return cls(plan, registry, extra, report=progress)
 
     def _budget(self) -> int:
         state, stop = self.state, self.plan.scene.stop
@@ -149,30 +163,38 @@ class Simulation:
     def run(self) -> RunResult:
         """Run to the stop criterion and return the result (observers closed, file written)."""
         t0 = time.perf_counter()
-        state = self.state
+        state, notice, scene = self.state, self.compile_notice, self.plan.scene
+        fluid_phase = f"the {scene.fluid.kind!r} fluid model"
+        solid_phase = f"the {scene.solid.kind!r} solid" if self.solid is not None else ""
         self._log_start()
-        self.fluid.setup(state)
+        with notice.phase(fluid_phase):
+            self.fluid.setup(state)
         if self.solid is not None:
-            self.solid.setup(state)
+            with notice.phase(solid_phase):
+                self.solid.setup(state)
         for obs in self.observers:
             obs.trigger.reset()
             obs.attach(self)
+        #: Chooses the threads of the fluid's parallel kernels call by call (None: it has
+        #: none); its counters go into the summary.
+        self.threads = (
+            ThreadGovernor(thread_setting()) if self.fluid.parallel_work() is not None else None
+        )
         #: The solid's fields at each of the fluid's snapshots (deformable media).
         self._solid_snapshots: list[dict[str, np.ndarray]] = []
         while (reason := self._stop_reason()) is None:
             time_before = state.time
-            events = self.fluid.advance(state, self._budget())
+            events = self._advance(fluid_phase)
             if events == 0 and state.time == time_before and not self.fluid.exhausted:
                 raise NumericalError(
                     f"fluid model {type(self.fluid).__name__} made no progress (no pore drained, "
                     f"time unchanged) after {state.n_drained} drained pores at step {state.step}"
                 )
-            if (
-                self.coupler is not None
-                and self.solid is not None
-                and self.coupler.exchange(state, self.solid, events)
-            ):
-                self.fluid.apertures_changed(state, self.coupler.changed_throats)
+            if self.coupler is not None and self.solid is not None:
+                with notice.phase(solid_phase):
+                    exchanged = self.coupler.exchange(state, self.solid, events)
+                if exchanged:
+                    self.fluid.apertures_changed(state, self.coupler.changed_throats)
             if self.solid is not None:
                 snaps = getattr(self.fluid, "snapshots", ())
                 while len(self._solid_snapshots) < len(snaps):
@@ -180,20 +202,42 @@ class Simulation:
             for obs in self.observers:
                 if obs.trigger.fires(state):
                     obs.observe(state)
-        self.fluid.finalize(state)
+        with notice.phase(fluid_phase):
+            self.fluid.finalize(state)
         self._check_finite()
         wall = time.perf_counter() - t0 + self.build_time
         result = RunResult(self._data(reason, wall), state, self.lattice, self.plan)
         if self.classifier is not None:
             from porenet.analysis.classify import classify_run
 
-            verdict = classify_run(result.data, self.classifier, self.plan.scene.classifier.kind)
+            with notice.phase(f"the {scene.classifier.kind!r} classifier"):
+                verdict = classify_run(result.data, self.classifier, scene.classifier.kind)
             result.data.summary.update(verdict)
             log.info("pattern: %s", verdict)
         for obs in self.observers:
             obs.close(state, result)
         log.info("run finished: %s after %d pores in %.3f s", reason, state.n_drained, wall)
         return result
+
+    def _advance(self, phase: str) -> int:
+        """One call of the fluid model, on the threads the governor picks, aiming at its
+        wall time (:mod:`porenet.threads`)."""
+        fluid, governor, notice = self.fluid, self.threads, self.compile_notice
+        if governor is None:
+            fluid.call_seconds = CALL_SECONDS
+            with notice.phase(phase):
+                return fluid.advance(self.state, self._budget())
+        governor.before_call()
+        fluid.call_seconds = governor.call_seconds()
+        work0, compiled0, t0 = fluid.parallel_work() or 0.0, notice.counter(), time.perf_counter()
+        with notice.phase(phase):
+            events = fluid.advance(self.state, self._budget())
+        governor.after_call(
+            time.perf_counter() - t0,
+            (fluid.parallel_work() or 0.0) - work0,
+            compiled=notice.counter() != compiled0,
+        )
+        return events
 
     def _log_start(self) -> None:
         """INFO: what runs and the plan's estimate; DEBUG: the whole plan."""
@@ -209,6 +253,21 @@ class Simulation:
         if cost is not None:
             log.info("estimate (docs/cost.md): %s", cost.summary())
         log.debug("plan:\n%s", self.plan.describe())
+        if self.report:
+            sys.stderr.write(f"porenet: {self.start_line()}\n")
+            sys.stderr.flush()
+
+    def start_line(self) -> str:
+        """What runs, on what, and what the plan expects (``porenet run`` prints it)."""
+        scene, cost, lat = self.plan.scene, self.plan.cost, self.lattice
+        solid = f"{scene.solid.kind!r} solid" if self.solid is not None else "rigid medium"
+        text = (
+            f"run {scene.name!r}: {scene.fluid.kind!r} fluid model, {solid}, "
+            f"{scene.lattice.kind!r} lattice of {lat.n_pores:,} pores"
+        )
+        if cost is not None:
+            text += f"; expect {cost.summary()} (docs/cost.md)"
+        return text
 
     def _check_finite(self) -> None:
         state = self.state
@@ -246,6 +305,9 @@ class Simulation:
         summary.update(self.fluid.summary(state))
         if self.solid is not None:
             summary.update(self.solid.summary(state))
+        if getattr(self, "threads", None) is not None:
+            summary.update(self.threads.summary())
+        summary["compile_time_s"] = self.compile_notice.compiled_seconds
         return RunData(
             porenet_version=__version__,
             scene=self.plan.scene.model_dump(mode="json"),

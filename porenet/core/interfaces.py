@@ -241,6 +241,12 @@ class FluidModel(ABC):
     #: updated between fluid steps; models whose steps each drain one pore may ignore it.
     step_limit: int | None = None
 
+    #: Wall time (s) one :meth:`advance` should aim at, where it can return without changing
+    #: the run (None: no aim, the model's own chunks). The Simulation sets it before each
+    #: call, so that it regains control this often (progress, observers, the choice of
+    #: threads: :mod:`porenet.threads`). A model must give the same results whatever it is.
+    call_seconds: float | None = None
+
     def __init__(self, config: ModelConfig, lattice: Lattice, context: RunContext) -> None:
         self.config = config
         self.lattice = lattice
@@ -248,6 +254,14 @@ class FluidModel(ABC):
 
     def setup(self, state: State) -> None:  # noqa: B027 - optional hook
         """Called once before the loop; may drain the inlet pores and precompute."""
+
+    def parallel_work(self) -> float | None:
+        """Work done so far by kernels that run on several threads, in units of the model's
+        choice that cost about the same wall time each (the viscous model: pore sweeps of
+        boxes large enough for threads); None (the default) when the model's kernels never
+        use threads. The Simulation measures time per unit of it on 1 and on several
+        threads and keeps the faster (:class:`porenet.threads.ThreadGovernor`)."""
+        return None
 
     @abstractmethod
     def advance(self, state: State, max_events: int) -> int:

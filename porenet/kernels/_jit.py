@@ -130,6 +130,11 @@ def set_threads(count: int | None) -> int:
     return count
 
 
+def thread_limit() -> int:
+    """The most threads the parallel kernels can use (numba's ``NUMBA_NUM_THREADS``)."""
+    return int(numba.config.NUMBA_NUM_THREADS) if HAVE_NUMBA else 1
+
+
 def threads() -> int:
     """The threads the parallel kernels use now."""
     return int(numba.get_num_threads()) if HAVE_NUMBA else 1

@@ -95,8 +95,12 @@ CTRL = {
     "last_step": 7,  # its length
     "rejected_events": 8,  # of the rejected: a meniscus past l = 0, unresolved or unlisted
     "rejected_stages": 9,  # stage sweeps spent on rejected steps
+    # F_E(y_n) between calls, so that where a call ends never changes the run:
+    "f0_valid": 10,  # 1: the buffer named by f0_swapped holds F_E(p) (0: recompute it)
+    "f0_swapped": 11,  # 1: it is the ``fnew`` argument (the steps swapped the two buffers)
+    "outflow0": 12,  # the outflow rate of that state (returned with F_E by the sweep)
 }
-N_CTRL = 10
+N_CTRL = 13
 
 #: An RKC step shorter than this many explicit steps is not worth its stages: the explicit
 #: integrator takes over (four times as long when a landing is predicted within it).
@@ -218,6 +222,13 @@ def _add_active(field: tuple, src: np.ndarray, dst: np.ndarray) -> None:
             dst[act[s]] += src[act[s]]
 
 
+@njit(helper=True)
+def _keep_f0(ctrl: np.ndarray, stale: bool, out0: float) -> None:
+    """Leave F_E(y_n) for the next call: valid unless ``stale``, with its outflow rate."""
+    ctrl[10] = 0.0 if stale else 1.0
+    ctrl[12] = out0
+
+
 @njit
 def rkc_advance(
     indptr: np.ndarray,
@@ -283,11 +294,14 @@ def rkc_advance(
 
     Arguments as :func:`porenet.kernels.viscous.explicit_advance` (which it calls near
     landings, with ``dt_max`` its step), plus: ``ybuf`` (3, N) stage buffers, ``f0`` and
-    ``fnew`` (N) ``F_E`` at the start and end of a step (scratch: the two swap roles at each
-    accepted step, and ``f0`` is recomputed on entry), ``zero`` (N) zeros, ``ctrl``
-    (:data:`CTRL`), ``rho`` the spectral radius of the pore-to-pore operator, ``dt_stable``
-    the explicit stability limit, ``pressure_scale`` the entry-pressure spread and
-    ``tolerance`` the local error allowed per step as a fraction of it. Returns a
+    ``fnew`` (N) ``F_E`` at the start and end of a step (the two swap roles at each
+    accepted step; ``ctrl`` records which of them holds ``F_E(p)`` when a call returns, so the
+    next call goes on from it and a run does not depend on where its calls end: a caller
+    that changes ``p``, the box or the conductances between calls clears ``ctrl``'s
+    ``f0_valid``), ``zero`` (N) zeros, ``ctrl`` (:data:`CTRL`), ``rho`` the spectral radius
+    of the pore-to-pore operator, ``dt_stable`` the explicit stability limit,
+    ``pressure_scale`` the entry-pressure spread and ``tolerance`` the local error allowed
+    per step as a fraction of it. Returns a
     :data:`porenet.kernels.viscous.STATUS` code.
 
     ``nbox`` is ``box`` and ``win`` a window that is off (:func:`porenet.kernels.window.
@@ -317,12 +331,17 @@ def rkc_advance(
     r_ell = np.empty(n_thr)
     moved = np.empty(n_thr, dtype=np.bool_)
     rhs = np.empty(n_pores)  # the stages' right-hand sides at the menisci's pores
-    need_f0 = True
-    out0 = 0.0
     windowed = win[0][0] == FINE
+    # F_E(y_n) as the last call left it, unless the state changed since (ctrl "f0_valid"
+    # cleared by the caller) or this is a window's fine integration (which starts afresh)
+    if ctrl[11] != 0.0:
+        f0, fnew = fnew, f0
+    need_f0 = windowed or ctrl[10] == 0.0
+    out0 = ctrl[12]
     h_next = ctrl[0] if ctrl[0] > 0 else EXPLICIT_SPAN * dt_stable
     while True:
         ctrl[0] = h_next
+        _keep_f0(ctrl, need_f0 or windowed, out0)
         if cnt[0] - events_at_entry >= max_events or cnt[1] - steps_at_entry >= step_budget:
             return 0
         t, pinv = acc[0], acc[1]
@@ -350,6 +369,7 @@ def rkc_advance(
         n_on = _list_candidates(h, menisci0, pump0, front, nf, tp, drained, pe, latched,
                                 latching, inv_vol, cand, near, win, grid_n, t)  # fmt: skip
         if n_on < 0:
+            _keep_f0(ctrl, need_f0 or windowed, out0)
             return CUT
         # F_I(y_n): the menisci's fluxes over an explicit-length step; the next landing
         meniscus_fluxes(dt_stable, n_on, menisci0, pump0, q0)
@@ -362,7 +382,6 @@ def rkc_advance(
             # Near a landing, or a fast transient: explicit steps until the event or the span.
             _unlist(n_on, on_t, on_p, head, cand)
             span = EXPLICIT_SPAN * (4.0 if t_land < EXPLICIT_SPAN * dt_stable else 1.0)
-            left = step_budget - (cnt[1] - steps_at_entry)
             before = cnt[1]
             status = explicit_advance(
                 indptr, nbr, thr, tp, g_eff, g_num, area, pe, vol, g_out, outlet, grid_n, box,
@@ -370,7 +389,7 @@ def rkc_advance(
                 landing, acc, cnt, order, via, series, dt_max, control, q_rate, capacity,
                 capacity_per_drained, ramp_rate, latching, floor, pressure_step, ell0,
                 1, t_end, max_steps, stop_at_breakthrough,
-                max(min(int(span * dt_stable / dt_max) + 2, left), 1), nbox, win, head,
+                int(span * dt_stable / dt_max) + 2, nbox, win, head,
             )  # fmt: skip
             ctrl[4] += cnt[1] - before
             ctrl[6] = 0.0  # the controller restarts
@@ -378,6 +397,7 @@ def rkc_advance(
             h_next = EXPLICIT_SPAN * dt_stable
             if status != 0:
                 ctrl[0] = h_next
+                _keep_f0(ctrl, True, out0)
                 return status
             continue
         m = stage_count(h, rho)
@@ -431,6 +451,7 @@ def rkc_advance(
         if not (np.isfinite(err) and np.isfinite(ps) and np.isfinite(stored)):
             _unlist(n_on, on_t, on_p, head, cand)
             cnt[4] = -1
+            _keep_f0(ctrl, True, out0)
             return 4
         if reject == 0.0 and err > 1.0:
             reject = max(0.2, 0.8 * err ** (-1.0 / 3.0))
@@ -447,6 +468,7 @@ def rkc_advance(
             acc[11] += book_shadow(win, m, RING_FLUX)
             set_ring(win, p, t + h)
         f0, fnew = fnew, f0  # F_E(y_n+1) is the next step's F_E(y_n): swap, do not copy
+        ctrl[11] = 1.0 - ctrl[11]
         out0 += out_s
         for s in range(n_on):
             if moved[s]:
@@ -471,6 +493,7 @@ def rkc_advance(
                 rate = max(rate, qs[s] * inv_vol[on_p[s]])
             if rate * dt_max <= floor:
                 ctrl[0] = h
+                _keep_f0(ctrl, need_f0 or windowed, out0)
                 return 6
         # the RKC code's predictive controller (Gustafsson): how the error grew with the step
         # over the last two steps, not the asymptotic h^3 law, sets the next step

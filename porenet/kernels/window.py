@@ -82,6 +82,12 @@ def window_arrays(mode: int, entries: int, n_pores: int, n_throats: int) -> tupl
     )
 
 
+def box_area(box: np.ndarray) -> int:
+    """The pores of a box of the grid (rows ``[box[0], box[1])``, columns ``[box[2],
+    box[3])``); plain Python, for the classes that plan windows and count sweeps."""
+    return int((box[1] - box[0]) * (box[3] - box[2]))
+
+
 def no_window() -> tuple:
     """A window that is off (the integrators then sweep their whole box)."""
     return window_arrays(OFF, 0, 0, 0)

@@ -105,10 +105,10 @@ def execute_run(task: RunTask) -> dict[str, Any]:
     logger.addHandler(capture)
     logger.propagate = False
     try:
-        from porenet.kernels._jit import set_threads
         from porenet.simulation import run
+        from porenet.threads import configure_threads
 
-        set_threads(task.threads)
+        configure_threads("auto", most=task.threads)
         result = run(task.scene, output=task.output)
         out: dict[str, Any] = {k: _plain(result.summary.get(k)) for k in SUMMARY_FIELDS}
         out["status"] = "done"

@@ -34,8 +34,8 @@ import argparse
 import time
 from pathlib import Path
 
-from porenet.kernels._jit import set_threads
 from porenet.simulation import Simulation
+from porenet.threads import configure_threads
 
 SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "fig1b.toml"
 
@@ -145,7 +145,9 @@ def main() -> None:
     parser.add_argument("--high-ca", action="store_true")
     parser.add_argument("--integrator", default="auto")
     parser.add_argument(
-        "--threads", type=int, default=None, help="threads of the parallel kernels (default: all)"
+        "--threads",
+        default="auto",
+        help="threads of the parallel kernels: N, or auto (the default: measured per run)",
     )
     parser.add_argument(
         "--set",
@@ -155,7 +157,8 @@ def main() -> None:
         help="scene override for --low-ca-full, e.g. fluid.local_steps=off (repeatable)",
     )
     args = parser.parse_args()
-    print(f"{set_threads(args.threads)} thread(s)")
+    threads = args.threads if args.threads == "auto" else int(args.threads)
+    print(f"threads: {configure_threads(threads).describe()}")
     Simulation.from_scene(SCENE, ["lattice.n=20"]).run()  # load the numba cache
     Simulation.from_scene(SCENE, ["lattice.n=20", "fluid.capillary_number=1e-5"]).run()
     volume = args.displaced_volume

@@ -60,6 +60,7 @@ def test_set_override_and_quiet(write_scene, tmp_path, capsys):
         (["plot", "absent.h5"], "no such run file"),
         (["plot", "SCENE"], "not an HDF5 file"),
         (["run", "SCENE", "--threads", "0"], "--threads 0: must be at least 1"),
+        (["run", "SCENE", "--threads", "many"], "--threads many: give a number of threads or"),
     ],
 )
 def test_errors_exit_2_or_1_with_message(write_scene, capsys, args, expected):
@@ -117,3 +118,27 @@ def test_module_entry_point_runs(write_scene, tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert np.asarray(h5py.File(out)["final/drained"]).shape == (25, 25)
+
+
+def test_run_says_at_once_what_it_runs_and_quiet_silences_it(write_scene, tmp_path, capsys):
+    """stderr is not a terminal here (a batch job): a start line with the plan's estimate,
+    then progress lines; -q prints neither."""
+    path = str(write_scene(SCENE))
+    assert main(["run", path, "-o", str(tmp_path / "a.h5"), "--threads", "auto"]) == 0
+    err = capsys.readouterr().err
+    first = err.splitlines()[0]
+    assert first.startswith("porenet: run 'cli': 'invasion-percolation' fluid model, rigid")
+    assert "625 pores" in first and "expect ~" in first and "docs/cost.md" in first
+    assert main(["run", path, "-o", str(tmp_path / "b.h5"), "-q", "--threads", "1"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_compile_command(capsys, monkeypatch):
+    from porenet import compilation
+
+    tiny = (compilation.WARM_UPS[0],)
+    monkeypatch.setattr(compilation, "WARM_UPS", tiny)
+    monkeypatch.setattr(compilation.compile_all, "__defaults__", (None, tiny))
+    assert main(["compile"]) == 0
+    out = capsys.readouterr().out
+    assert "invasion percolation:" in out and "porenet compile:" in out

@@ -1,13 +1,16 @@
-"""The progress display: a status line with an estimated ETA on a terminal, silence elsewhere."""
+"""The progress display: a status line with an estimated ETA on a terminal, log lines elsewhere."""
 
 from __future__ import annotations
 
 import io
 import logging
+import time
 from types import SimpleNamespace
 
 from porenet.builtin.observers.progress import (
     ETA_MIN_ELAPSED,
+    LOG_FRACTION,
+    LOG_SECONDS,
     Progress,
     ProgressConfig,
     eta_text,
@@ -34,10 +37,30 @@ def _run(scene_dict, stream, **kwargs):
     return plan, progress
 
 
-def test_silent_when_not_a_terminal(scene_dict):
+def test_log_lines_when_not_a_terminal(scene_dict):
+    """Not a terminal (a batch job, nohup): whole lines, never rewritten in place, one each
+    time another tenth of the expected pores drains (or every LOG_SECONDS)."""
     stream = io.StringIO()
-    _run(scene_dict, stream)
+    _plan, progress = _run(scene_dict, stream)
+    lines = stream.getvalue().splitlines()
+    assert lines and "\r" not in stream.getvalue()
+    assert all(line.startswith("porenet: drained") for line in lines)
+    assert len(lines) <= 1 + round(1 / LOG_FRACTION)
+    assert not progress.terminal
+
+
+def test_a_log_line_at_least_every_log_seconds():
+    stream = io.StringIO()
+    progress = Progress(stream=stream)  # no expected count: only the clock
+    progress._total = 100
+    state = SimpleNamespace(n_drained=3, time=0.0, step=0)
+    progress._t0 = time.perf_counter() - 1.0
+    progress.observe(state)
     assert stream.getvalue() == ""
+    progress._t0 = time.perf_counter() - LOG_SECONDS - 1.0
+    progress.observe(state)
+    progress.observe(state)  # not again until another LOG_SECONDS
+    assert stream.getvalue().count("\n") == 1 and "drained         3 / 100" in stream.getvalue()
 
 
 def test_status_line_on_a_terminal(scene_dict):

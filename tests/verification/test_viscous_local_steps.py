@@ -182,17 +182,17 @@ def test_results_do_not_depend_on_the_threads():
     """The large sweeps run on several threads and take their sums per row, then over the
     rows in order: a run on one thread and on two gives the same drainage order, times,
     pressures and volumes, to the bit (64 x 64, so that the boxes are swept in parallel)."""
-    from porenet.kernels._jit import set_threads, threads
+    from porenet.threads import configure_threads, thread_setting
 
     sc = scene(n=64, capillary_number=1e-4, seed=6, max_drained=120)
-    before = threads()
+    before = thread_setting()
     try:
-        set_threads(1)
+        configure_threads(1)
         sim_1, one = simulate(sc)
-        set_threads(2)
+        configure_threads(2)
         sim_2, two = simulate(sc)
     finally:
-        set_threads(before)
+        configure_threads("auto" if before.adaptive else before.most, most=before.most)
     np.testing.assert_array_equal(one.data.order, two.data.order)
     np.testing.assert_array_equal(one.data.invasion_time, two.data.invasion_time)
     np.testing.assert_array_equal(sim_1.fluid._p, sim_2.fluid._p)

@@ -40,6 +40,7 @@ from porenet.kernels import multirate as mk
 from porenet.kernels.chebyshev import MAX_STAGES, longest_step, stage_count
 from porenet.kernels.diffusion import grow_where_reached
 from porenet.kernels.window import CUT, CUT_FAR_MENISCUS, FINE, RING_COARSE, window_arrays
+from porenet.kernels.window import box_area as _area
 
 #: Candidate windows of a coarse step: their reach beyond the hot pores, as multiples of the
 #: reach the last coarse steps needed.
@@ -102,6 +103,11 @@ class LocalSteps:
         self._reach = 0.0  # how far the last window reached beyond its hot pores, per sqrt(H)
         self._kappa = 0.5  # the least reach, per sqrt(H rho) (see _floor)
         self.stats = dict.fromkeys(STATS, 0)
+        #: The last call ended inside a pore drained at a single rate (see :meth:`advance`),
+        #: with these sweeps and this model time spent on it so far.
+        self._single_open = False
+        self._single_sweeps = 0.0
+        self._single_span = 0.0
         self.last: dict[str, Any] = {}  # the last macro step, for diagnostics
 
     def _field(self, box: np.ndarray) -> tuple:
@@ -190,18 +196,12 @@ class LocalSteps:
                 return 0
             if f._acc[0] >= t_end:
                 return 2
-            status = self._macro_step(state, budget - done, t_end)
+            # a macro step is never cut by ``step_chunk``; a pore drained at a single rate is
+            # finished first if the last call ended inside it: where calls end changes nothing
+            status = None if self._single_open else self._macro_step(state, budget - done, t_end)
             if status is None:  # no window worth it: one pore at a single rate
-                before, t_before = int(f._cnt[0]), float(f._acc[0])
-                sweeps = f._ctrl[1] + f._ctrl[4]
-                status = f._rkc_single(state, 1, t_end)
-                sweeps = f._ctrl[1] + f._ctrl[4] - sweeps
-                self.stats["single_rate_sweeps"] += int(sweeps)
-                self._learn_fine_rate(sweeps, f._acc[0] - t_before)
-                self.stats["single_rate_pores"] += int(f._cnt[0]) - before
-                self._note_drained(before)
-                # the next macro step starts from at least twice the step RKC is taking
-                self.H = max(self.H, 2.0 * f._ctrl[0])
+                left = step_chunk - (int(f._cnt[1]) - steps0)
+                status = self._single_rate(state, t_end, left)
                 if status != 0:
                     return status
                 continue
@@ -209,6 +209,27 @@ class LocalSteps:
                 continue
             if status != 0:
                 return status
+
+    def _single_rate(self, state: Any, t_end: float, step_budget: int) -> int:
+        """Single-rate RKC steps until a pore drains (or ``step_budget`` steps, after which
+        the next call goes on with this pore: :attr:`_single_open`)."""
+        f = self.fluid
+        before, t_before = int(f._cnt[0]), float(f._acc[0])
+        sweeps = f._ctrl[1] + f._ctrl[4]
+        status = f._rkc_single(state, 1, t_end, step_budget=step_budget)
+        sweeps = f._ctrl[1] + f._ctrl[4] - sweeps
+        self._single_open = status == 0 and int(f._cnt[0]) == before
+        self._single_sweeps += sweeps
+        self._single_span += float(f._acc[0]) - t_before
+        self.stats["single_rate_sweeps"] += int(sweeps)
+        self.stats["single_rate_pores"] += int(f._cnt[0]) - before
+        self._note_drained(before)
+        if not self._single_open:
+            self._learn_fine_rate(self._single_sweeps, self._single_span)
+            self._single_sweeps = self._single_span = 0.0
+            # the next macro step starts from at least twice the step RKC is taking
+            self.H = max(self.H, 2.0 * f._ctrl[0])
+        return status
 
     def _coarse(self, state: Any, t_end: float) -> tuple[float, np.ndarray, np.ndarray] | None:
         """An accepted coarse step and its window: the step's length, the window and the hot
@@ -227,6 +248,7 @@ class LocalSteps:
         planned = self._plan(hot)
         if planned is None:
             return None
+        f.rates_changed()  # the coarse steps grow the box and use F_E's buffers as scratch
         h = min(planned, t_end - float(f._acc[0]), longest_step(MAX_STAGES, rho))
         least = 0
         for _attempt in range(self.max_attempts):
@@ -327,7 +349,10 @@ class LocalSteps:
         stages0, explicit0 = f._ctrl[1], f._ctrl[4]
         cnt = f._cnt.copy()
         cnt[2] = n_w
-        status = f._rkc_single(state, budget, t0 + h, wbox, win, (self._wfront, self._wfpos, cnt))
+        status = f._rkc_single(
+            state, budget, t0 + h, wbox, win, (self._wfront, self._wfpos, cnt),
+            step_budget=f.config.max_steps,
+        )  # fmt: skip
         f._cnt[[0, 1, 3, 4, 5]] = cnt[[0, 1, 3, 4, 5]]
         mk.merge_front(f._order, events0, int(cnt[0]), *f._csr, drained, f._front, f._fpos,
                        f._cnt, self._wfront, int(cnt[2]), self._wfpos)  # fmt: skip
@@ -438,8 +463,3 @@ class LocalSteps:
         if k > since:
             self._hot_time.extend(float(x) for x in f._series[since:k, 0])
             self._hot_pore.extend(int(x) for x in f._order[since:k])
-
-
-def _area(box: np.ndarray) -> int:
-    """The pores of a box (rows ``[box[0], box[1])``, columns ``[box[2], box[3])``)."""
-    return int((box[1] - box[0]) * (box[3] - box[2]))

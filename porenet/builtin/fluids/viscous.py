@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 from typing import Any, Literal
 
 import numpy as np
@@ -12,14 +13,21 @@ from porenet.config.base import ModelConfig
 from porenet.core.errors import NumericalError
 from porenet.core.interfaces import FluidModel
 from porenet.core.state import State
-from porenet.kernels.window import no_window
+from porenet.kernels._jit import PARALLEL_MIN, threads
+from porenet.kernels.window import box_area, no_window
+from porenet.threads import CallPace
 
 #: Length of a new meniscus: the distance between two pore centres, 2a.
 MENISCUS_LENGTH = 2.0
 
-#: Most drainage events and time steps per call into the kernel: the Simulation regains
-#: control this often to run observers (progress, snapshots) and check the stops.
+#: Drainage events between the points where a macro step of local time steps ends (counted
+#: from the first event after the inlets, so the same in every run of a scene: where the
+#: calls end does not matter). The other integrators give the same results for any value.
 _CHUNK = 256
+#: Most time steps per call into the kernel. Within it a call aims at the Simulation's
+#: ``call_seconds`` (:class:`porenet.threads.CallPace`): the Simulation regains control
+#: that often to run observers (progress, snapshots), check the stops and choose the
+#: threads. Where a call ends changes no result (``tests/verification/test_chunking.py``).
 _STEP_CHUNK = 20_000
 
 #: ``integrator = "auto"``: the stabilised (RKC) integrator once the explicit one would need
@@ -248,6 +256,9 @@ class ViscousDrainage(FluidModel):
             )  # fmt: skip
         if self._outlet[state.drained].any():  # an inlet on the outlet: breakthrough at once
             self._cnt[5] = 1
+        self._events0 = int(self._cnt[0])
+        self._pace = CallPace(most=_STEP_CHUNK)
+        self._parallel_work = 0.0
         self._status = -1
         self._synced = 0
         self._pending_saturations = [
@@ -431,13 +442,14 @@ class ViscousDrainage(FluidModel):
         cfg, stop = self.config, self.context.stop
         before = int(self._cnt[0])
         budget = max(int(max_events), 0)
-        budget = min(budget, _CHUNK)
+        budget = min(budget, _CHUNK - (before - self._events0) % _CHUNK)
         if self._pending_saturations:
             budget = min(budget, max(self._pending_saturations[0] - before, 0))
         t_end = self._t_end
         if self._pending_times:
             t_end = min(t_end, self._pending_times[0])
         status = 0
+        steps0, sweeps0, wall0 = int(self._cnt[1]), self._sweeps(), time.perf_counter()
         if budget > 0 and self.integrator == "implicit":
             status = self._implicit_advance(state, budget, t_end)
         elif budget > 0 and self.integrator == "rkc":
@@ -455,6 +467,9 @@ class ViscousDrainage(FluidModel):
                 cfg.max_steps, stop.at == "breakthrough", self._step_chunk(), self._box,
                 self._no_window, self._work[0],
             )  # fmt: skip
+        self._pace.record(int(self._cnt[1]) - steps0, time.perf_counter() - wall0, threads())
+        if self._grid_n > 0 and box_area(self._box) >= PARALLEL_MIN:
+            self._parallel_work += self._sweeps() - sweeps0
         self._sync(state)
         if status in (3, 4):
             raise NumericalError(
@@ -532,11 +547,13 @@ class ViscousDrainage(FluidModel):
         wbox: np.ndarray | None = None,
         win: tuple | None = None,
         front: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+        step_budget: int | None = None,
     ) -> int:
         """Single-rate RKC steps over the active box; or, given ``wbox``, ``win`` and
         ``front``, the fine integration of one macro step of local time steps: RKC over the
         window ``wbox`` with the window's own front ``(front, fpos, cnt)`` (a copy of the
-        counters whose slot 2 counts it)."""
+        counters whose slot 2 counts it). At most ``step_budget`` steps (default
+        :meth:`_step_chunk`)."""
         from porenet.kernels import rkc
 
         cfg, stop = self.config, self.context.stop
@@ -553,8 +570,17 @@ class ViscousDrainage(FluidModel):
             self._capacity_per_drained, self._ramp, cfg.meniscus == "latching",
             cfg.pressure_floor, self._pressure_step, self._pressure_scale, cfg.tolerance,
             MENISCUS_LENGTH, budget, t_end, cfg.max_steps, stop.at == "breakthrough",
-            self._step_chunk(), self._box, self._no_window if win is None else win, self._work,
+            self._step_chunk() if step_budget is None else step_budget, self._box,
+            self._no_window if win is None else win, self._work,
         )  # fmt: skip
+
+    def rates_changed(self) -> None:
+        """The pressures, the active box or the conductances changed outside the RKC kernel
+        (local time steps, a deformed solid): its next call recomputes ``F_E(p)``."""
+        if self.integrator == "rkc":
+            from porenet.kernels import rkc
+
+            self._ctrl[rkc.CTRL["f0_valid"]] = 0.0
 
     def _no_menisci(self) -> tuple[tuple, tuple]:
         """The menisci and pump tuples of :func:`porenet.kernels.rkc_step.imex_stages` for a
@@ -568,8 +594,37 @@ class ViscousDrainage(FluidModel):
         return menisci, pump
 
     def _step_chunk(self) -> int:
-        """Most time steps per kernel call: the coupler's limit (:attr:`step_limit`) if any."""
-        return _STEP_CHUNK if self.step_limit is None else min(_STEP_CHUNK, self.step_limit)
+        """Most time steps of this kernel call: the coupler's limit (:attr:`step_limit`) if
+        any, else as many as fill :attr:`call_seconds` (at most ``_STEP_CHUNK``)."""
+        if self.step_limit is not None:
+            return min(_STEP_CHUNK, self.step_limit)
+        if self.call_seconds is None:
+            return _STEP_CHUNK
+        return self._pace.steps(self.call_seconds, threads())
+
+    def _sweeps(self) -> float:
+        """Pore sweeps done so far (the work of the kernels that run on threads): time steps
+        times the active box for the explicit integrator, stage sweeps and explicit steps
+        times it for RKC, the windows' and coarse steps' pore stages with local time steps;
+        0 for the implicit integrator (its solves run on one thread)."""
+        area = box_area(self._box)
+        if self.integrator == "explicit":
+            return float(self._cnt[1]) * area
+        if self.integrator != "rkc":
+            return 0.0
+        if self._local is None:
+            return float(self._ctrl[1] + self._ctrl[4]) * area
+        st = self._local.stats
+        return float(
+            st["window_pore_stages"] + st["coarse_pore_stages"] + st["single_rate_sweeps"] * area
+        )
+
+    def parallel_work(self) -> float | None:
+        """Pore sweeps (:meth:`_sweeps`) of boxes large enough for threads (``PARALLEL_MIN``
+        pores), so far; None on lattices other than square grids, which run on one thread."""
+        if self._grid_n == 0 or self.integrator == "implicit":
+            return None
+        return self._parallel_work
 
     def apertures_changed(self, state: State, throats: np.ndarray | None = None) -> None:
         """Recompute the areas, conductances and entry pressures of the deformed throats (in
@@ -589,6 +644,7 @@ class ViscousDrainage(FluidModel):
             MENISCUS_LENGTH, self._tp, state.drained, self._area, self._g_num, self._g_eff,
             self._pe, self._csr[0], self._csr[2], self._vol, self._g_out,
         )  # fmt: skip
+        self.rates_changed()
         if limit < self.dt_stable:
             self.dt_stable = limit
             self._dt = self.config.safety_factor * self.dt_stable

@@ -1,6 +1,9 @@
-"""Progress display on a terminal (stderr), quiet elsewhere.
+"""Progress on stderr: a status line on a terminal, a line now and then elsewhere.
 
-One status line, rewritten in place: drained pores, drainage rate, elapsed wall time, model
+On a terminal, one status line rewritten in place (every ``every_seconds``); elsewhere (a
+batch job, ``nohup``, a notebook) a line every :data:`LOG_SECONDS` of wall time or each time
+another :data:`LOG_FRACTION` of the expected drained pores is reached, whichever comes
+first. Either shows drained pores, drainage rate, elapsed wall time, model
 time and step (time-dependent models), and an ETA. The number of pores a run will drain is
 not known in advance: the ETA divides the pores still expected by the rate so far, with the
 expected count from the plan's cost estimate (:mod:`porenet.core.cost`: ``stop.max_drained``
@@ -26,6 +29,10 @@ from porenet.core.triggers import EverySeconds
 ETA_MIN_ELAPSED = 2.0
 #: ... and this fraction of the expected drained pores.
 ETA_MIN_FRACTION = 0.02
+#: Not on a terminal: a line at least this often (s of wall time) ...
+LOG_SECONDS = 30.0
+#: ... and each time this fraction of the expected drained pores is passed.
+LOG_FRACTION = 0.1
 
 
 class ProgressConfig(ModelConfig):
@@ -58,13 +65,14 @@ def eta_text(drained: int, expected: int | None, elapsed: float) -> str:
 
 
 class Progress(Observer):
-    """Writes a one-line status to a terminal; writes nothing when the stream is not a TTY.
+    """Writes a one-line status to a terminal, rewritten in place; on any other stream a
+    line every :data:`LOG_SECONDS` or :data:`LOG_FRACTION` of the expected drained pores.
 
     Parameters
     ----------
     config : ProgressConfig, optional
     stream : text stream, optional
-        Where to write (default ``sys.stderr``); silent unless ``stream.isatty()``.
+        Where to write (default ``sys.stderr``).
     expected_drained : int, optional
         Pores the run is expected to drain, for the ETA. Default: the plan's cost estimate
         (``run.plan.cost.drained``), read at :meth:`attach`.
@@ -83,7 +91,11 @@ class Progress(Observer):
         self._total = 0
         self._expected = expected_drained
         self._time_scale: float | None = None
-        self._active = bool(getattr(self.stream, "isatty", lambda: False)())
+        #: A terminal: the status line is rewritten in place; otherwise lines are logged.
+        self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
+        self._logged_at = 0.0  # elapsed wall time of the last logged line
+        self._logged_fraction = 0  # tenths of the expected pores already logged
+        self._wrote = False
 
     @property
     def expected_drained(self) -> int | None:
@@ -116,15 +128,24 @@ class Progress(Observer):
         return "  ".join(parts)
 
     def observe(self, state: State) -> None:
-        if not self._active:
-            return
         elapsed = time.perf_counter() - self._t0
-        # "\x1b[K" clears what a longer previous line left behind.
-        self.stream.write(f"\r  {self.status(state, elapsed)}\x1b[K")
-        self.stream.flush()
+        if self.terminal:
+            # "\x1b[K" clears what a longer previous line left behind.
+            self.stream.write(f"\r  {self.status(state, elapsed)}\x1b[K")
+            self.stream.flush()
+            self._wrote = True
+            return
+        passed = 0
+        if self._expected:
+            passed = int(state.n_drained / (LOG_FRACTION * self._expected))
+        if elapsed - self._logged_at >= LOG_SECONDS or passed > self._logged_fraction:
+            self._logged_at = elapsed
+            self._logged_fraction = max(passed, self._logged_fraction)
+            self.stream.write(f"porenet: {self.status(state, elapsed)}\n")
+            self.stream.flush()
 
     def close(self, state: State, result: Any) -> None:
-        if self._active:
+        if self.terminal and self._wrote:
             self.observe(state)
             self.stream.write("\n")
             self.stream.flush()
