@@ -16,6 +16,7 @@ from pathlib import Path
 
 from porenet._version import __version__
 from porenet.core.errors import ConfigError, PorenetError
+from porenet.plot_kinds import PLOT_KIND_DESCRIPTIONS
 
 log = logging.getLogger("porenet")
 
@@ -343,22 +344,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=cmd_plugins)
 
-    from porenet.viz.figures import PLOT_KINDS
-
     p = sub.add_parser(
         "plot",
         help="draw a figure of a run file (pattern, pressure, fractal fit, mechanics, ...)",
         description="Draw a figure of a run file. Kinds:\n"
-        + "\n".join(f"  {k:<11} {d}" for k, (_, d) in PLOT_KINDS.items()),
+        + "\n".join(f"  {k:<11} {d}" for k, d in PLOT_KIND_DESCRIPTIONS.items()),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("runfile", help="run file (HDF5)")
     p.add_argument(
         "-k",
         "--kind",
-        choices=list(PLOT_KINDS),
+        choices=list(PLOT_KIND_DESCRIPTIONS),
         metavar="KIND",
-        help=f"what to draw: {', '.join(PLOT_KINDS)} (default pattern; see above)",
+        help=f"what to draw: {', '.join(PLOT_KIND_DESCRIPTIONS)} (default pattern; see above)",
     )
     p.add_argument(
         "-o",

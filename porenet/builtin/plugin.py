@@ -1,34 +1,34 @@
-"""Registers porenet's built-in kinds through the public hooks, like any third-party plugin."""
+"""Registers porenet's built-in kinds through the public hooks, like any third-party plugin.
+
+Only the light config modules (``porenet/builtin/*/config.py``, pydantic and porenet's light
+modules) are imported here; every implementation is a ``"module:Class"`` string, imported only
+when a scene builds the kind (docs/architecture.md, "Light commands").
+"""
 
 from __future__ import annotations
 
 from porenet.builtin.classifiers import NoClassifierConfig
-from porenet.builtin.classifiers.rules import RulesClassifierConfig
-from porenet.builtin.classifiers.theory import TheoryClassifier, TheoryClassifierConfig
-from porenet.builtin.couplers.pressure_aperture import (
-    PressureApertureConfig,
-    PressureApertureCoupler,
-)
-from porenet.builtin.fluids.invasion_percolation import (
-    InvasionPercolation,
-    InvasionPercolationConfig,
-)
-from porenet.builtin.fluids.viscous import ViscousConfig
-from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
-from porenet.builtin.observers.progress import Progress, ProgressConfig
-from porenet.builtin.solids.hertz import HertzConfig
+from porenet.builtin.classifiers.config import RulesClassifierConfig, TheoryClassifierConfig
+from porenet.builtin.couplers.config import PressureApertureConfig
+from porenet.builtin.fluids.config import InvasionPercolationConfig, ViscousConfig
+from porenet.builtin.lattices.config import SquareLatticeConfig
+from porenet.builtin.observers.config import ProgressConfig
+from porenet.builtin.solids.config import HertzConfig
 from porenet.builtin.solids.rigid import RigidConfig
 from porenet.hooks import Register, hookimpl
 
 
 @hookimpl
 def porenet_register_lattices(register: Register) -> None:
-    register(SquareLatticeConfig, SquareLattice)
+    register(SquareLatticeConfig, "porenet.builtin.lattices.square:SquareLattice")
 
 
 @hookimpl
 def porenet_register_fluid_models(register: Register) -> None:
-    register(InvasionPercolationConfig, InvasionPercolation)
+    register(
+        InvasionPercolationConfig,
+        "porenet.builtin.fluids.invasion_percolation:InvasionPercolation",
+    )
     register(ViscousConfig, "porenet.builtin.fluids.viscous:ViscousDrainage")
 
 
@@ -40,16 +40,19 @@ def porenet_register_solid_models(register: Register) -> None:
 
 @hookimpl
 def porenet_register_couplers(register: Register) -> None:
-    register(PressureApertureConfig, PressureApertureCoupler)
+    register(
+        PressureApertureConfig,
+        "porenet.builtin.couplers.pressure_aperture:PressureApertureCoupler",
+    )
 
 
 @hookimpl
 def porenet_register_observers(register: Register) -> None:
-    register(ProgressConfig, Progress)
+    register(ProgressConfig, "porenet.builtin.observers.progress:Progress")
 
 
 @hookimpl
 def porenet_register_classifiers(register: Register) -> None:
     register(NoClassifierConfig, None)
     register(RulesClassifierConfig, "porenet.builtin.classifiers.rules:RulesClassifier")
-    register(TheoryClassifierConfig, TheoryClassifier)
+    register(TheoryClassifierConfig, "porenet.builtin.classifiers.theory:TheoryClassifier")

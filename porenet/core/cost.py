@@ -48,7 +48,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from porenet.analysis.numbers import fracturing_number
-from porenet.builtin.fluids.viscous import auto_integrator
+from porenet.builtin.fluids.config import auto_integrator
 
 #: Invasion percolation, centre injection, ensemble mean drained fraction at breakthrough
 #: ``a n^-b`` with trapping (n = 25-800, 12-32 seeds each; docs/cost.md).

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from porenet.plot_kinds import PLOT_KIND_DESCRIPTIONS
 from porenet.viz.style import scene_title, styled
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -75,23 +76,20 @@ def figure_timeseries(data: RunData) -> Figure:
     return plot_timeseries(data)
 
 
+#: kind -> function(RunData) -> Figure; the kinds and their order are
+#: :data:`porenet.plot_kinds.PLOT_KIND_DESCRIPTIONS`'s.
+_FIGURES: dict[str, Callable[[RunData], Figure]] = {
+    "pattern": figure_pattern,
+    "time": figure_time,
+    "pressure": figure_pressure,
+    "fractal": figure_fractal,
+    "mechanics": figure_mechanics,
+    "timeseries": figure_timeseries,
+}
+
 #: kind -> (function(RunData) -> Figure, one-line description).
 PLOT_KINDS: dict[str, tuple[Callable[[RunData], Figure], str]] = {
-    "pattern": (figure_pattern, "drained pores coloured by drainage order; trapped defender grey"),
-    "time": (figure_time, "drained pores coloured by invasion time (dynamic runs)"),
-    "pressure": (figure_pressure, "log10(p / p_inv) around the pattern, Fig. 1b (viscous runs)"),
-    "fractal": (
-        figure_fractal,
-        "M(R) against distance from the inlet and box counts, with D_f fits",
-    ),
-    "mechanics": (
-        figure_mechanics,
-        "aperture change r / r0 - 1 and removed springs (deformable runs)",
-    ),
-    "timeseries": (
-        figure_timeseries,
-        "p_inv, volumes and Ca against time (dynamic) or entry pressure per step (static)",
-    ),
+    kind: (_FIGURES[kind], description) for kind, description in PLOT_KIND_DESCRIPTIONS.items()
 }
 
 _MAPS = ("pattern", "time", "pressure", "mechanics")

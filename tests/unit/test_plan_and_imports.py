@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+import json
+import os
 import subprocess
 import sys
+from pathlib import Path
+
+import pytest
 
 import porenet
 from porenet.config.loading import load_scene
@@ -44,6 +49,96 @@ def test_import_porenet_loads_no_plugin_numba_h5py_matplotlib():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+
+#: Packages no light command may import (``porenet.x`` also forbids ``porenet.x.y``).
+HEAVY_PACKAGES = (
+    "numba",
+    "llvmlite",
+    "scipy",
+    "h5py",
+    "matplotlib",
+    "porenet.kernels",
+    "porenet.viz",
+    "porenet.simulation",
+    "porenet.io",
+    "porenet.sweep",
+    "porenet.analysis.classify",
+    "porenet.analysis.features",
+    "porenet.analysis.fractal",
+)
+#: The built-ins' implementation modules: a light command imports only their configs
+#: (``porenet/builtin/*/config.py``).
+IMPLEMENTATIONS = (
+    "porenet.builtin.lattices.square",
+    "porenet.builtin.fluids.invasion_percolation",
+    "porenet.builtin.fluids.viscous",
+    "porenet.builtin.fluids.local_steps",
+    "porenet.builtin.solids.hertz",
+    "porenet.builtin.couplers.pressure_aperture",
+    "porenet.builtin.observers.progress",
+    "porenet.builtin.observers.runfile",
+    "porenet.builtin.classifiers.rules",
+    "porenet.builtin.classifiers.theory",
+)
+
+#: Run in a fresh interpreter: ``import porenet`` (argv null) or ``porenet.cli.main(argv)``
+#: (its output swallowed), then report the exit status and every loaded module as JSON.
+_PROBE = """
+import contextlib, io, json, sys
+argv = json.loads(sys.argv[1])
+status = None
+if argv is None:
+    import porenet
+else:
+    from porenet.cli import main
+    with contextlib.redirect_stdout(io.StringIO()):
+        try:
+            status = main(argv)
+        except SystemExit as exc:  # --help
+            status = exc.code
+print(json.dumps({"status": status, "modules": sorted(sys.modules)}))
+"""
+
+LIGHT_COMMANDS = {
+    "import porenet": None,
+    "--help": ["--help"],
+    "validate fig1b (viscous, rigid)": ["validate", str(SCENES / "fig1b.toml")],
+    "validate fig5 (viscous, hertz)": ["validate", str(SCENES / "fig5.toml")],
+    "validate ip-400 --show": ["validate", "--show", str(SCENES / "ip-400.toml")],
+    "plan fig1b": ["plan", str(SCENES / "fig1b.toml")],
+    "plan fig5": ["plan", str(SCENES / "fig5.toml")],
+    "plan ip-400": ["plan", str(SCENES / "ip-400.toml")],
+    "schema": ["schema"],
+    "plugins": ["plugins"],
+}
+
+
+@pytest.mark.parametrize("argv", LIGHT_COMMANDS.values(), ids=LIGHT_COMMANDS.keys())
+def test_light_commands_import_no_numerics_plotting_or_implementation(argv):
+    """``porenet --help``, ``validate``, ``plan``, ``schema`` and ``plugins`` build the scene
+    schema from the built-ins' config modules alone: no numba, scipy, h5py or matplotlib, no
+    kernels, and no built-in implementation (registered as ``"module:Class"`` strings). Only
+    the built-ins are loaded (``PORENET_PLUGINS=``), so an unrelated plugin installed in the
+    environment cannot make the test fail."""
+    env = os.environ | {"PORENET_PLUGINS": ""}
+    out = subprocess.run(
+        [sys.executable, "-c", _PROBE, json.dumps(argv)],
+        capture_output=True,
+        text=True,
+        check=True,
+        env=env,
+    )
+    report = json.loads(out.stdout)
+    assert report["status"] in (None, 0), out.stderr
+    modules = report["modules"]
+    heavy = [m for m in modules for p in HEAVY_PACKAGES if m == p or m.startswith(p + ".")]
+    assert heavy == []
+    assert [m for m in modules if m in IMPLEMENTATIONS] == []
+    if argv is not None and argv != ["--help"]:  # the schema was built from every config
+        assert {"porenet.builtin.plugin", "porenet.builtin.fluids.config"} <= set(modules)
 
 
 def test_a_fluid_model_that_stalls_is_reported_not_a_hang(scene_dict):

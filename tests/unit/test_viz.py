@@ -55,6 +55,15 @@ def test_every_kind_is_listed_with_a_description():
     assert all(callable(f) and d for f, d in PLOT_KINDS.values())
 
 
+def test_the_figures_are_the_kinds_the_command_line_offers():
+    """``porenet plot --kind`` takes its kinds from the light list; every one has a figure."""
+    from porenet.plot_kinds import PLOT_KIND_DESCRIPTIONS
+    from porenet.viz.figures import _FIGURES
+
+    assert list(_FIGURES) == list(PLOT_KIND_DESCRIPTIONS)
+    assert {k: d for k, (_, d) in PLOT_KINDS.items()} == PLOT_KIND_DESCRIPTIONS
+
+
 PAIRS = [(r, k) for r, kinds in VALID.items() for k in kinds]
 
 

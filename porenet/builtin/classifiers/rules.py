@@ -26,57 +26,12 @@ they give on labelled ensembles: docs/classification.md.
 from __future__ import annotations
 
 import math
-from typing import Any, Literal
-
-from pydantic import Field, model_validator
+from typing import Any
 
 from porenet.analysis.classify import measure_dimension
 from porenet.analysis.features import pattern_features
-from porenet.config.base import ModelConfig
+from porenet.builtin.classifiers.config import RulesClassifierConfig
 from porenet.core.interfaces import Classification, Classifier
-
-
-class RulesClassifierConfig(ModelConfig):
-    """Rule-based regime from D_f, finger width and straight runs (docs/classification.md)."""
-
-    kind: Literal["rules"] = "rules"
-    fracture_fraction: float = Field(
-        0.5,
-        gt=0,
-        le=1,
-        description="Fraction of drained pores in thin straight runs, or entered through "
-        "opened throats (deformable media), for FR.",
-    )
-    fracture_onset: float = Field(
-        0.15, ge=0, le=1, description="Fraction from which FR/CF or FR/VF is reported."
-    )
-    width_split: float = Field(
-        1.5, gt=1, description="Mean finger width (pores) between VF (below) and CF (above)."
-    )
-    width_scale: float = Field(
-        0.3, gt=0, description="Width difference (pores) that makes the width vote certain."
-    )
-    dimension_split: float = Field(
-        1.73, gt=1, lt=2, description="Bias-corrected D_f between VF (below) and CF (above)."
-    )
-    dimension_scale: float = Field(
-        0.09, gt=0, description="D_f difference that makes the D_f vote certain."
-    )
-    intermediate_band: float = Field(
-        0.25, ge=0, lt=1, description="Votes closer to 0 than this give CF/VF."
-    )
-    min_drained: int = Field(
-        20, ge=2, description="Smaller patterns fall back on the theory predictor."
-    )
-
-    @model_validator(mode="after")
-    def _ordered(self) -> RulesClassifierConfig:
-        if self.fracture_onset > self.fracture_fraction:
-            raise ValueError(
-                f"fracture_onset ({self.fracture_onset}) must not exceed "
-                f"fracture_fraction ({self.fracture_fraction})"
-            )
-        return self
 
 
 def _clip(x: float) -> float:

@@ -2,16 +2,10 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any
 
-from porenet.config.base import ModelConfig
+from porenet.builtin.classifiers.config import TheoryClassifierConfig as TheoryClassifierConfig
 from porenet.core.interfaces import Classification, Classifier
-
-
-class TheoryClassifierConfig(ModelConfig):
-    """Regime predicted from Ca* and N_f alone (MODEL.md section 6); looks at no pattern."""
-
-    kind: Literal["theory"] = "theory"
 
 
 class TheoryClassifier(Classifier):

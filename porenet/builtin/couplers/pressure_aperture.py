@@ -2,20 +2,12 @@
 
 from __future__ import annotations
 
-from typing import Literal
-
 import numpy as np
 
+from porenet.builtin.couplers.config import PressureApertureConfig as PressureApertureConfig
 from porenet.config.base import ModelConfig
 from porenet.core.interfaces import Coupler, RunContext, SolidModel
 from porenet.core.state import State
-
-
-class PressureApertureConfig(ModelConfig):
-    """Names the coupler; its schedule is set in the solid's section (``coupling``,
-    ``coupling_interval``, ``coupling_tolerance``)."""
-
-    kind: Literal["pressure-aperture"] = "pressure-aperture"
 
 
 class PressureApertureCoupler(Coupler):

@@ -2,31 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
-from pydantic import Field
 
-from porenet.config.base import ModelConfig
+from porenet.builtin.fluids.config import InvasionPercolationConfig
 from porenet.core.interfaces import FluidModel
 from porenet.core.state import State
-
-
-class InvasionPercolationConfig(ModelConfig):
-    """Both fluids inviscid: each step drains the pore behind the easiest throat."""
-
-    kind: Literal["invasion-percolation"] = "invasion-percolation"
-    trapping: bool = Field(
-        True,
-        description="A defending cluster cut off from the outlet can no longer be invaded "
-        "(2D pattern D_f ~ 1.82); false gives D_f ~ 1.89.",
-    )
-    interfacial_tension: float = Field(
-        0.07, gt=0, description="Interfacial tension gamma (N/m). Paper: 0.07 N/m."
-    )
-
-    def effects(self) -> dict[str, bool]:
-        return {"capillarity": True, "viscous_dissipation": False, "trapping": self.trapping}
 
 
 class InvasionPercolation(FluidModel):

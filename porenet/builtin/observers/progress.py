@@ -16,11 +16,9 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import Any, Literal, TextIO
+from typing import Any, TextIO
 
-from pydantic import Field
-
-from porenet.config.base import ModelConfig
+from porenet.builtin.observers.config import ProgressConfig
 from porenet.core.interfaces import Observer
 from porenet.core.state import State
 from porenet.core.triggers import EverySeconds
@@ -33,13 +31,6 @@ ETA_MIN_FRACTION = 0.02
 LOG_SECONDS = 30.0
 #: ... and each time this fraction of the expected drained pores is passed.
 LOG_FRACTION = 0.1
-
-
-class ProgressConfig(ModelConfig):
-    """Show drained pores, rate and elapsed time while a run goes on."""
-
-    kind: Literal["progress"] = "progress"
-    every_seconds: float = Field(0.5, gt=0, description="Refresh interval (s of wall time).")
 
 
 def format_duration(seconds: float) -> str:
