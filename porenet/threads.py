@@ -121,12 +121,14 @@ class ThreadGovernor:
     A *sample* is at least :attr:`min_sample` seconds of calls on one count; its cost is
     seconds per unit of work. The governor starts on ``most`` threads, probes one thread
     right after its first sample, and then runs on :attr:`current` and, every
-    :attr:`interval` seconds of threaded work (doubling from :attr:`first_interval` up to
+    :attr:`interval` seconds of threaded work (doubling, from :attr:`first_interval` up to
     :attr:`longest_interval` while probes keep losing), takes one sample on the other count
     (a probe) and compares it with the mean of the samples just before and just after it
     (work per second drifts as the box grows). It switches when the probe is cheaper by more
-    than :attr:`margin`. A sample of the current count costing :attr:`jump` times its
-    predecessors' median (the machine got busier) brings the next probe forward.
+    than :attr:`margin`; a probe that lost by more than 2x quadruples the interval. On
+    several threads, two samples in a row costing :attr:`jump` times their predecessors'
+    median (the machine got busier) bring the next probe forward, at most once per
+    :attr:`first_interval`.
     Calls whose work is 0 (boxes too small for threads) and calls during which kernels were
     compiled are not measured.
     """
@@ -151,6 +153,8 @@ class ThreadGovernor:
         self.interval = self.first_interval
         self._threaded = 0.0  # seconds of measured (threaded) calls so far
         self._next_probe = 0.0  # the first probe follows the first sample
+        self._last_probe = -math.inf  # when the last probe started (threaded seconds)
+        self._changed = 0  # samples in a row whose cost left the usual range
         #: Counters for the run's summary.
         self.probes = 0
         self.switches = 0
@@ -221,18 +225,27 @@ class ThreadGovernor:
                 self.interval = self.first_interval
             else:
                 self._history.append(cost)
-                self.interval = min(2.0 * self.interval, self.longest_interval)
+                # a probe that lost by far costs more: wait longer before the next one
+                growth = 4.0 if self._probe > 2.0 * reference else 2.0
+                self.interval = min(growth * self.interval, self.longest_interval)
             self._probe = self._before = None
             self._next_probe = self._threaded + self.interval
             return
-        if self._history and cost > self.jump * _median(self._history):
-            # slower than before: the machine may have changed; look again soon
-            self._next_probe = min(self._next_probe, self._threaded)
-            self.interval = self.first_interval
+        if self._history and self._threaded >= self._last_probe + self.first_interval:
+            # on several threads a jump in cost means the machine got busier: look again now
+            # (the interval itself keeps growing: costs also drift as the box grows). On one
+            # thread a quieter machine hardly shows (the other cores were busy, not this
+            # one): the periodic probes find it.
+            changed = self.current > 1 and cost > self.jump * _median(self._history)
+            self._changed = self._changed + 1 if changed else 0
+            if self._changed >= 2:  # two samples in a row: not the scatter of one call
+                self._next_probe = self._threaded
+                self._changed = 0
         self._history.append(cost)
         if self._threaded >= self._next_probe:
             self._before = cost
             self._probing = True
+            self._last_probe = self._threaded
 
     def summary(self) -> dict[str, object]:
         """What the run's summary records of the threads."""

@@ -137,3 +137,15 @@ def test_call_pace_aims_at_the_wall_time():
     assert pace.steps(0.25) == 2500
     pace.record(100, 100 * 1e-3, threads=2)  # two threads known separately
     assert pace.steps(0.25, threads=2) == 250 and pace.steps(0.25, threads=1) == 1000
+
+
+def test_costs_that_drift_and_scatter_do_not_make_it_probe_all_the_time():
+    """Cost per unit of work grows as the box outgrows the caches and scatters from call to
+    call; on a busy machine the governor must still probe the slow count only now and then."""
+
+    def machine(count, t):
+        return (1.0 + t / 30.0) * (1.0 if count == 1 else 2.5)
+
+    per_work, spent, gov = drive(machine, seconds=60.0, noise=0.15, seed=3)
+    assert gov.current == 1 and gov.probes <= 12
+    assert spent[2] < 0.03 * spent[1]
