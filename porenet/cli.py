@@ -114,11 +114,13 @@ def cmd_compile(args: argparse.Namespace) -> int:
             state = f"compiled in {seconds:.1f} s" if seconds > 0 else "already compiled"
             print(f"{name}: {state}", flush=True)
 
-    total = compile_all(on_done=done)
+    if args.jobs is not None and args.jobs < 1:
+        raise ConfigError(f"--jobs {args.jobs}: must be at least 1")
+    total = compile_all(on_done=done, jobs=args.jobs or 1)
     if not args.quiet:
         print(
             f"porenet compile: {total:.1f} s of compilation, {time.perf_counter() - t0:.1f} s "
-            "in all; later runs on this machine load the kernels from the cache"
+            "of wall time; later runs on this machine load the kernels from the cache"
         )
     return 0
 
@@ -327,6 +329,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="compile every kernel now (once per machine; e.g. for a cluster or a container)",
         description="Compile (or load from numba's cache) every kernel of porenet's built-in "
         "models by running tiny scenes, so that no later run on this machine compiles.",
+    )
+    p.add_argument(
+        "--jobs",
+        type=int,
+        metavar="N",
+        help="compile in N processes at once (default 1; the cores to spare)",
     )
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(func=cmd_compile)

@@ -165,6 +165,7 @@ class Simulation:
         t0 = time.perf_counter()
         state, notice, scene = self.state, self.compile_notice, self.plan.scene
         fluid_phase = f"the {scene.fluid.kind!r} fluid model"
+        steps_phase = f"{fluid_phase}'s steps"
         solid_phase = f"the {scene.solid.kind!r} solid" if self.solid is not None else ""
         self._log_start()
         with notice.phase(fluid_phase):
@@ -184,7 +185,7 @@ class Simulation:
         self._solid_snapshots: list[dict[str, np.ndarray]] = []
         while (reason := self._stop_reason()) is None:
             time_before = state.time
-            events = self._advance(fluid_phase)
+            events = self._advance(steps_phase)
             if events == 0 and state.time == time_before and not self.fluid.exhausted:
                 raise NumericalError(
                     f"fluid model {type(self.fluid).__name__} made no progress (no pore drained, "
@@ -202,7 +203,7 @@ class Simulation:
             for obs in self.observers:
                 if obs.trigger.fires(state):
                     obs.observe(state)
-        with notice.phase(fluid_phase):
+        with notice.phase("the end of the run"):
             self.fluid.finalize(state)
         self._check_finite()
         wall = time.perf_counter() - t0 + self.build_time

@@ -61,6 +61,7 @@ def test_set_override_and_quiet(write_scene, tmp_path, capsys):
         (["plot", "SCENE"], "not an HDF5 file"),
         (["run", "SCENE", "--threads", "0"], "--threads 0: must be at least 1"),
         (["run", "SCENE", "--threads", "many"], "--threads many: give a number of threads or"),
+        (["compile", "--jobs", "0"], "--jobs 0: must be at least 1"),
     ],
 )
 def test_errors_exit_2_or_1_with_message(write_scene, capsys, args, expected):
@@ -138,7 +139,7 @@ def test_compile_command(capsys, monkeypatch):
 
     tiny = (compilation.WARM_UPS[0],)
     monkeypatch.setattr(compilation, "WARM_UPS", tiny)
-    monkeypatch.setattr(compilation.compile_all, "__defaults__", (None, tiny))
+    monkeypatch.setattr(compilation.compile_all, "__defaults__", (None, tiny, 1))
     assert main(["compile"]) == 0
     out = capsys.readouterr().out
     assert "invasion percolation:" in out and "porenet compile:" in out

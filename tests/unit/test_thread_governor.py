@@ -146,6 +146,6 @@ def test_costs_that_drift_and_scatter_do_not_make_it_probe_all_the_time():
     def machine(count, t):
         return (1.0 + t / 30.0) * (1.0 if count == 1 else 2.5)
 
-    per_work, spent, gov = drive(machine, seconds=60.0, noise=0.15, seed=3)
+    _, spent, gov = drive(machine, seconds=60.0, noise=0.15, seed=3)
     assert gov.current == 1 and gov.probes <= 12
     assert spent[2] < 0.03 * spent[1]

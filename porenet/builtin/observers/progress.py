@@ -2,8 +2,8 @@
 
 On a terminal, one status line rewritten in place (every ``every_seconds``); elsewhere (a
 batch job, ``nohup``, a notebook) a line every :data:`LOG_SECONDS` of wall time or each time
-another :data:`LOG_FRACTION` of the expected drained pores is reached, whichever comes
-first. Either shows drained pores, drainage rate, elapsed wall time, model
+another :data:`LOG_FRACTION` of the expected drained pores is reached (up to the expected
+count), whichever comes first. Either shows drained pores, drainage rate, elapsed wall time, model
 time and step (time-dependent models), and an ETA. The number of pores a run will drain is
 not known in advance: the ETA divides the pores still expected by the rate so far, with the
 expected count from the plan's cost estimate (:mod:`porenet.core.cost`: ``stop.max_drained``
@@ -127,7 +127,7 @@ class Progress(Observer):
             self._wrote = True
             return
         passed = 0
-        if self._expected:
+        if self._expected and state.n_drained <= self._expected:  # past it: the clock only
             passed = int(state.n_drained / (LOG_FRACTION * self._expected))
         if elapsed - self._logged_at >= LOG_SECONDS or passed > self._logged_fraction:
             self._logged_at = elapsed
