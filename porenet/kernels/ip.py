@@ -371,6 +371,9 @@ def invasion_sequence(
     by_rank, rank, keys, pairs, order, via, key, target = work[:8]
     _ranks_into(entry, by_rank, rank, keys)
     rank_pairs(indptr, neighbours, throats, rank, width, pairs)
+    # read only from here on, like the lattice's adjacency: the flood fill shared with
+    # enclosed_defender then compiles once (numba types read-only arrays apart)
+    pairs.flags.writeable = False
     inlets = np.ascontiguousarray(inlets, dtype=np.int64)
     outlet = np.ascontiguousarray(outlet, dtype=np.bool_)
     max_steps = max(int(max_steps), 0)
