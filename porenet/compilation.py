@@ -124,7 +124,9 @@ class CompileNotice:
         if not self.enabled:
             log.info("%s", text)
             return
-        self.stream.write(f"porenet: {text}\n")
+        # on a terminal, first clear a progress line that may be showing
+        clear = "\r\x1b[K" if getattr(self.stream, "isatty", lambda: False)() else ""
+        self.stream.write(f"{clear}porenet: {text}\n")
         self.stream.flush()
 
     @contextmanager

@@ -58,6 +58,9 @@ class Simulation:
         #: ``report``: write what the run does to stderr (a start line, compiling kernels).
         self.report = report
         self.compile_notice = CompileNotice(enabled=report)
+        #: Chooses the threads of the fluid's parallel kernels call by call, built by
+        #: :meth:`run` (None: the fluid model has none); its counters go into the summary.
+        self.threads: ThreadGovernor | None = None
         scene = plan.scene
         lattice_seed, model_seed = np.random.SeedSequence(scene.seed).spawn(2)
         try:
@@ -176,8 +179,6 @@ class Simulation:
         for obs in self.observers:
             obs.trigger.reset()
             obs.attach(self)
-        #: Chooses the threads of the fluid's parallel kernels call by call (None: it has
-        #: none); its counters go into the summary.
         self.threads = (
             ThreadGovernor(thread_setting()) if self.fluid.parallel_work() is not None else None
         )
@@ -306,7 +307,7 @@ class Simulation:
         summary.update(self.fluid.summary(state))
         if self.solid is not None:
             summary.update(self.solid.summary(state))
-        if getattr(self, "threads", None) is not None:
+        if self.threads is not None:
             summary.update(self.threads.summary())
         summary["compile_time_s"] = self.compile_notice.compiled_seconds
         return RunData(

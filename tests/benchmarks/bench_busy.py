@@ -3,6 +3,8 @@
     python tests/benchmarks/bench_busy.py                    # Fig. 1b to breakthrough
     python tests/benchmarks/bench_busy.py --max-drained 3000 --repeat 5   # a capped Fig. 1b
     python tests/benchmarks/bench_busy.py --threads auto 1 2 # also a fixed 2 threads
+    python tests/benchmarks/bench_busy.py --threads 2 1 --env OMP_WAIT_POLICY=passive
+                                                             # an OpenMP wait policy instead
 
 Each run is ``porenet run examples/scenes/fig1b.toml -q --threads T`` as a new process (the
 numba cache warm: one small run first), under three loads that the script starts and stops
@@ -30,11 +32,11 @@ SCENE = ROOT / "examples" / "scenes" / "fig1b.toml"
 BUSY = "while True: pass"
 
 
-def run_once(threads: str, extra: list[str], out: Path) -> tuple[float, dict]:
+def run_once(threads: str, extra: list[str], out: Path, env: dict[str, str]) -> tuple[float, dict]:
     cmd = [sys.executable, "-m", "porenet", "run", str(SCENE), "-q", "-o", str(out),
            "--threads", threads, *extra]  # fmt: skip
     t0 = time.perf_counter()
-    subprocess.run(cmd, check=True)
+    subprocess.run(cmd, check=True, env=dict(os.environ, **env))
     wall = time.perf_counter() - t0
     import h5py
 
@@ -51,7 +53,11 @@ def main() -> None:
     parser.add_argument("--loads", nargs="+", type=int, default=[0, 1, 2],
                         help="numbers of busy processes beside the runs")  # fmt: skip
     parser.add_argument("--max-drained", type=int, default=None, help="cap the run")
+    parser.add_argument("--env", action="append", default=[], metavar="KEY=VALUE",
+                        help="environment of the runs, e.g. OMP_WAIT_POLICY=passive or "
+                        "NUMBA_THREADING_LAYER=workqueue (repeatable)")  # fmt: skip
     args = parser.parse_args()
+    env = dict(item.split("=", 1) for item in args.env)
     if args.repeat < 1:
         parser.error("--repeat must be at least 1")
     extra = ["--set", "classifier.kind=none"]
@@ -60,8 +66,8 @@ def main() -> None:
     settings = list(dict.fromkeys(args.threads))
     if "1" not in settings:
         settings.append("1")
-    print(f"scene {SCENE.name} {' '.join(extra)}; {os.cpu_count()} CPUs; load average before: "
-          f"{os.getloadavg()[0]:.2f}", flush=True)  # fmt: skip
+    print(f"scene {SCENE.name} {' '.join(extra)}; env {env}; {os.cpu_count()} CPUs; load "
+          f"average before: {os.getloadavg()[0]:.2f}", flush=True)  # fmt: skip
     tmp = Path(tempfile.mkdtemp())
     subprocess.run([sys.executable, "-m", "porenet", "run", str(SCENE), "-q", "-o",
                     str(tmp / "warm.h5"), "--set", "lattice.n=64"], check=True)  # fmt: skip
@@ -75,7 +81,7 @@ def main() -> None:
             for r in range(args.repeat):
                 order = settings if r % 2 == 0 else settings[::-1]
                 for s in order:
-                    wall, attrs = run_once(s, extra, tmp / f"run-{s}.h5")
+                    wall, attrs = run_once(s, extra, tmp / f"run-{s}.h5", env)
                     walls[s].append(wall)
                     last[s] = attrs
                     print(f"  busy {load}, --threads {s}: {wall:.1f} s "
