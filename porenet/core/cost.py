@@ -24,21 +24,27 @@ pores):
   the widest throats, ``c_V / (2 c_A c_k r_max^4)`` with ``r_max = (1 + lambda) r_mean``, and
   each landing adds a step: ``1 + 2.8 c_V / (q dt)`` steps per drained pore, counted on the
   pores a rigid medium would drain (fracturing changes the time to breakthrough far less
-  than the drained count). Implicit integrator: 13 steps per drained pore.
+  than the drained count); the accuracy limit ``pressure_step`` adds ~``20 n sqrt(Ca)``
+  steps (more for weak disorder), which dominate fast injection (Ca >~ 1), where more pores
+  drain too (up to ~``0.3 n^0.12`` of the lattice from Ca = 1e2). Implicit integrator: 13
+  steps per drained pore.
   ``integrator = "auto"`` is resolved by the model's own rule.
 * **Mechanical updates** (solid kind ``hertz``): one per fluid step (``every-step``), one
   per ``coupling_interval`` steps, or, adaptive, a fraction ~0.3 of the steps for
   ``N_f >= 0.1`` falling to 0 at ``N_f = 0.01`` (a stiff solid is never updated). With
-  invasion percolation, one per drained pore.
+  invasion percolation, one per drained pore (adaptive: falling to none the same way).
+  Above ``N_f = 10`` (viscous) the estimate notes that it is outside its calibration.
 * **Memory**: bytes per pore (lattice, state, records and the run data 240; the viscous
   model +250; its implicit integrator +2000; the Hertzian solid +600), peak resident memory.
-* **Wall time** (build and run, seconds): invasion percolation ``3e-3 + 2.3e-7 N``; explicit
-  ``steps (1.5e-5 + 1.8e-9 N) + drained 2.9e-6 n``; implicit ``drained 0.039
+* **Wall time** (build and run, seconds): invasion percolation ``3e-3 + 2.3e-7 N`` (times
+  ``(N / 640 000)^0.3`` above 640 000 pores); explicit
+  ``steps (1.5e-7 n + 1.8e-9 N) + drained 2.9e-6 n``; implicit ``drained 0.039
   (N / 2500)^1.41``; a deformable medium adds ``steps (3e-5 + 1.8e-9 N)`` (one step per
   call and the coupler's check) and ``updates (2.3e-9 + 7e-9 w) N^1.15`` (``w`` = 1 when
   fracturing); RKC with local time steps on large lattices ~1/3 of its time without
   (:data:`LOCAL_STEPS_FACTOR`). Python start-up, imports and the first-run numba
-  compilation (~5 s, once per machine) are not included.
+  compilation (7-55 s, once per machine: docs/performance.md, "First run") are not
+  included.
 """
 
 from __future__ import annotations
@@ -93,16 +99,38 @@ ADAPTIVE_FULL_NF = 0.1
 ADAPTIVE_NONE_NF = 0.01
 ADAPTIVE_TOLERANCE = 3e-3
 
+#: Viscous fluid in a Hertzian solid: above this N_f the estimate says it is outside its
+#: calibration (steps and updates 14x and 30x the estimate at N_f = 1e6, n = 30).
+SOFT_NF = 10.0
+
 #: Peak memory, bytes per pore.
 MEMORY_BASE = 240.0
 MEMORY_VISCOUS = 250.0
 MEMORY_IMPLICIT = 2000.0
 MEMORY_HERTZ = 600.0
 
-#: Wall time (s): invasion percolation, fixed and per pore.
+#: Fast injection (explicit integrator): steps the accuracy limit ``pressure_step`` adds,
+#: ``PRESSURE_STEP_STEPS n sqrt(Ca) (S(0.3) / S(lambda)) (0.1 / pressure_step)`` with
+#: ``S(lambda) = 4 lambda / (1 - lambda^2)`` the spread of entry pressures it is a fraction of
+#: (fitted to n = 15, 30, 60 at Ca = 1e2-1e6, lambda = 0.3, and lambda = 0.01 and 0.1 at
+#: Ca = 1e-2 and 1e-1, centre injection; docs/cost.md, "Hard cases").
+PRESSURE_STEP_STEPS = 20.0
+#: Fast injection drains more than invasion percolation before breakthrough: the fraction
+#: moves from IP's at Ca <= FAST_CA[0] to ``a n^b`` (FAST_FRACTION) at Ca >= FAST_CA[1],
+#: linearly in log Ca (n = 15-100, docs/cost.md, "Hard cases").
+FAST_CA = (1e-2, 1e2)
+FAST_FRACTION = (0.3, 0.12)
+
+#: Wall time (s): invasion percolation, fixed and per pore ...
 IP_SECONDS = (3e-3, 230e-9)
-#: Explicit viscous step: fixed and per pore of the lattice.
-EXPLICIT_STEP_SECONDS = (15e-6, 1.8e-9)
+#: ... times ``(N / N0)^p`` above N0 pores, where the arrays outgrow the caches (n = 3000:
+#: 6.2 s measured, 2.1 s without it; docs/cost.md, "Hard cases").
+IP_LARGE = (640_000, 0.3)
+#: Explicit viscous step: per pore of side (the menisci, the pump) and per pore of the
+#: lattice (the sweep of the active box).
+EXPLICIT_STEP_SECONDS = (1.5e-7, 1.8e-9)
+#: One RKC stage sweep or explicit step of the RKC integrator: fixed and per pore.
+RKC_SWEEP_SECONDS = (15e-6, 1.8e-9)
 #: Explicit viscous, per drained pore and pore of side (the located landing, new menisci).
 EXPLICIT_DRAINED_SECONDS = 2.9e-6
 #: Implicit viscous, per drained pore at N = 2500, and the exponent of N.
@@ -253,6 +281,34 @@ def adaptive_update_fraction(nf: float | None, tolerance: float = ADAPTIVE_TOLER
     )
 
 
+def entry_spread(disorder: float) -> float:
+    """Spread of entry pressures ``2 (1/r_min - 1/r_max)`` in units of ``gamma / r_mean``:
+    ``4 lambda / (1 - lambda^2)`` (the scale of ``pressure_step``)."""
+    return 4.0 * disorder / (1.0 - disorder**2)
+
+
+def fast_injection_fraction(n: int, ca: float, ip_fraction: float) -> float:
+    """Drained fraction at breakthrough of the viscous model at capillary number ``ca``: IP's
+    up to :data:`FAST_CA` ``[0]``, ``a n^b`` (:data:`FAST_FRACTION`) from ``FAST_CA[1]``,
+    linear in ``log Ca`` between."""
+    lo, hi = FAST_CA
+    if ca <= lo:
+        return ip_fraction
+    a, b = FAST_FRACTION
+    fast = max(ip_fraction, min(1.0, a * n**b))
+    w = min(1.0, math.log(ca / lo) / math.log(hi / lo))
+    return ip_fraction + w * (fast - ip_fraction)
+
+
+def pressure_step_steps(n: int, ca: float, disorder: float, pressure_step: float | None) -> float:
+    """Explicit steps that the accuracy limit ``pressure_step`` adds to a run to
+    breakthrough (:data:`PRESSURE_STEP_STEPS`; 0 without the limit)."""
+    if pressure_step is None or not math.isfinite(pressure_step) or disorder <= 0:
+        return 0.0
+    scale = entry_spread(0.3) / entry_spread(disorder) * 0.1 / pressure_step
+    return PRESSURE_STEP_STEPS * n * math.sqrt(ca) * scale
+
+
 def explicit_step(scene: Any, disorder: float) -> float:
     """Stable explicit step (scaled time ``mu a / gamma``): ``c_V / (4 g_max)`` with
     ``g_max = c_A c_k r_max^4 / 2`` the conductance of the widest throat."""
@@ -355,13 +411,25 @@ def estimate_cost(scene: Any) -> CostEstimate:
 
     # -- drained pores --------------------------------------------------------------------
     trapping = bool(getattr(fluid, "trapping", True))
-    expected = pores * ip_drained_fraction(n, at=stop.at, trapping=trapping, injection=at)
+    fraction = ip_drained_fraction(n, at=stop.at, trapping=trapping, injection=at)
+    q = pump_rate(scene) if fluid.kind == "viscous" else None
+    ca = None if q is None else q / (n if at == "left-edge" else 4 * n)
+    if ca is not None and stop.at == "breakthrough":
+        fraction = fast_injection_fraction(n, ca, fraction)
+    expected = pores * fraction
     if stop.max_drained is not None:
         expected = min(expected, float(stop.max_drained))
     #: What the medium would drain were it rigid: the viscous model's time to breakthrough,
     #: and so its steps, change far less with fracturing than the drained count does.
     unfractured = max(1.0, expected)
     w = fracture_weight(nf, fluid.kind) if hertz else 0.0
+    if hertz and fluid.kind == "viscous" and nf is not None and nf > SOFT_NF:
+        notes.append(
+            f"N_f = {nf:.3g} is beyond the model's calibration (N_f <= {SOFT_NF:g}): a soft "
+            "solid opens throats towards the aperture cap and shortens the stable step; "
+            "measured 14x the steps and 30x the updates at N_f = 1e6 (docs/cost.md, "
+            '"Hard cases")'
+        )
     if w > 0:
         fractured = min(expected, FRACTURE[fluid.kind][0] * n)
         expected = expected ** (1.0 - w) * fractured**w
@@ -374,13 +442,13 @@ def estimate_cost(scene: Any) -> CostEstimate:
     wall: float | None
     if fluid.kind == "invasion-percolation":
         steps = drained
-        wall = IP_SECONDS[0] + IP_SECONDS[1] * pores
+        big, power = IP_LARGE
+        wall = IP_SECONDS[0] + IP_SECONDS[1] * pores * max(1.0, pores / big) ** power
         if not rigid:
             notes.append("deformable: the invasion runs pore by pore")
     else:
         memory += MEMORY_VISCOUS * pores
-        q = pump_rate(scene)
-        if q is None or q <= 0:
+        if q is None or q <= 0 or ca is None:
             notes.append(f"control = {fluid.control!r}: steps and time not modelled")
             steps = wall = None
         else:
@@ -408,7 +476,7 @@ def estimate_cost(scene: Any) -> CostEstimate:
                 rho = RKC_RHO_FRACTION * 2.0 / dt
                 stages = RKC_STAGES * math.sqrt(1.54 * per_drained * dt * rho)
                 steps = unfractured * (RKC_EXPLICIT + stages / RKC_STAGES_PER_STEP)
-                c0, c1 = EXPLICIT_STEP_SECONDS
+                c0, c1 = RKC_SWEEP_SECONDS
                 wall = unfractured * stages * (c0 + RKC_STAGE_FACTOR * c1 * pores)
                 wall += unfractured * RKC_EXPLICIT * (c0 + c1 * pores)
                 wall *= local_steps_factor(scene, pores, rigid)
@@ -416,7 +484,11 @@ def estimate_cost(scene: Any) -> CostEstimate:
                 notes.append("rkc integrator (stabilised explicit steps)")
             else:
                 steps = unfractured * (1.0 + per_drained)
-                wall = steps * (EXPLICIT_STEP_SECONDS[0] + EXPLICIT_STEP_SECONDS[1] * pores)
+                steps += pressure_step_steps(
+                    n, ca, float(disorder), getattr(fluid, "pressure_step", None)
+                )
+                c0, c1 = EXPLICIT_STEP_SECONDS
+                wall = steps * (c0 * n + c1 * pores)
                 wall += drained * EXPLICIT_DRAINED_SECONDS * n
         if stop.at == "complete":
             notes.append("stop.at = 'complete' with the viscous model: drained count from IP")
@@ -431,12 +503,15 @@ def estimate_cost(scene: Any) -> CostEstimate:
         else:
             memory += MEMORY_HERTZ * pores
             schedule = getattr(solid, "coupling", "every-step")
-            if fluid.kind == "invasion-percolation" or schedule == "every-step":
+            tol = float(getattr(solid, "coupling_tolerance", ADAPTIVE_TOLERANCE))
+            if schedule == "every-step":
                 updates = steps
             elif schedule == "interval":
                 updates = steps / max(1, int(getattr(solid, "coupling_interval", 1)))
+            elif fluid.kind == "invasion-percolation":
+                # one per drained pore, unless the solid is too stiff to move by the tolerance
+                updates = steps * adaptive_update_fraction(nf, tol) / ADAPTIVE_UPDATE_FRACTION
             else:
-                tol = float(getattr(solid, "coupling_tolerance", ADAPTIVE_TOLERANCE))
                 updates = steps * adaptive_update_fraction(nf, tol)
             if wall is not None:
                 wall += steps * (COUPLED_STEP_SECONDS[0] + COUPLED_STEP_SECONDS[1] * pores)

@@ -5,6 +5,7 @@
     python tests/benchmarks/bench_cost.py --full          # also Fig. 1b and Fig. 5 at n = 400
                                                           # (~1 and ~4 minutes)
     python tests/benchmarks/bench_cost.py --memory        # peak memory, one child per model
+    python tests/benchmarks/bench_cost.py --hard          # the hard-case matrix, ~1 minute
     python tests/benchmarks/bench_cost.py --fractions     # IP drained fractions behind the
                                                           # drained-pore model (~2 minutes)
 
@@ -33,6 +34,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "examples" / "scenes"
 FIG1B = str(SCENES / "fig1b.toml")
 FIG5 = str(SCENES / "fig5.toml")
+IP400 = str(SCENES / "ip-400.toml")
 
 
 def _ip_hertz(n: int, nf: float) -> dict[str, Any]:
@@ -60,7 +62,7 @@ CASES: dict[str, tuple[Any, list[str]]] = {
     "fig5 n=200 N_f=0.3": (FIG5, ["lattice.n=200", "solid.fracturing_number=0.3"]),
     "IP + hertz n=100 N_f=1": (_ip_hertz(100, 1.0), []),
     "IP + hertz n=100 N_f=10": (_ip_hertz(100, 10.0), []),
-    "implicit n=40 Ca=1e-5": (
+    "auto n=40 Ca=1e-5": (
         {
             "seed": 1,
             "lattice": {"n": 40, "disorder": 0.3},
@@ -68,6 +70,39 @@ CASES: dict[str, tuple[Any, list[str]]] = {
         },
         [],
     ),
+}
+#: The hard-case matrix of docs/stability.md, as scenes a user would write (default integrator
+#: ``auto``): extreme disorder, Ca from 1e-7 to 1e6, N_f from 1e-6 to 1e6, 3 x 3 lattices and
+#: IP on a 3000 x 3000 lattice (``--hard``, ~1 minute; docs/cost.md, "Hard cases").
+HARD: dict[str, tuple[Any, list[str]]] = {
+    "λ=0.01 n=30 Ca=1e-2": (
+        FIG1B,
+        ["lattice.n=30", "lattice.disorder=0.01", "fluid.capillary_number=1e-2"],
+    ),
+    "λ=0.95 n=30 Ca=1e-2": (
+        FIG1B,
+        ["lattice.n=30", "lattice.disorder=0.95", "fluid.capillary_number=1e-2"],
+    ),
+    "λ=0.95 n=30 IP": (IP400, ["lattice.n=30", "lattice.disorder=0.95"]),
+    **{
+        f"n=30 Ca={ca}": (FIG1B, ["lattice.n=30", f"fluid.capillary_number={ca}"])
+        for ca in ("1e-1", "1", "1e2", "1e4", "1e6")
+    },
+    "n=100 Ca=1": (FIG1B, ["lattice.n=100", "fluid.capillary_number=1"]),
+    "n=10 Ca=1e-6": (FIG1B, ["lattice.n=10", "fluid.capillary_number=1e-6"]),
+    "n=10 Ca=1e-6 explicit": (
+        FIG1B,
+        ["lattice.n=10", "fluid.capillary_number=1e-6", "fluid.integrator=explicit"],
+    ),
+    "n=3 Ca=1e-7": (FIG1B, ["lattice.n=3", "fluid.capillary_number=1e-7"]),
+    "n=3 breakthrough": (FIG1B, ["lattice.n=3"]),
+    "n=3 complete": (FIG1B, ["lattice.n=3", "stop.at=complete"]),
+    "n=3 IP complete": (IP400, ["lattice.n=3", "stop.at=complete"]),
+    "n=30 N_f=1e-6": (FIG5, ["lattice.n=30", "solid.fracturing_number=1e-6"]),
+    "n=30 N_f=1e6": (FIG5, ["lattice.n=30", "solid.fracturing_number=1e6"]),
+    "IP + hertz n=30 N_f=1e-6": (_ip_hertz(30, 1e-6), []),
+    "IP + hertz n=30 N_f=1e6": (_ip_hertz(30, 1e6), []),
+    "IP n=3000": (IP400, ["lattice.n=3000"]),
 }
 FULL: dict[str, tuple[Any, list[str]]] = {
     "fig1b (n=400)": (FIG1B, []),
@@ -216,6 +251,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", nargs="+", help="case names (default: all reduced cases)")
     parser.add_argument("--full", action="store_true", help="add Fig. 1b and Fig. 5 at n = 400")
+    parser.add_argument("--hard", action="store_true", help="the hard-case matrix instead")
     parser.add_argument("--memory", action="store_true", help="measure peak memory instead")
     parser.add_argument("--memory-n", type=int, default=500)
     parser.add_argument("--memory-child", nargs=2, help=argparse.SUPPRESS)
@@ -235,8 +271,10 @@ def main() -> None:
     cases = dict(CASES)
     if args.full:
         cases.update(FULL)
+    if args.hard:
+        cases = dict(HARD)
     if args.only:
-        every = {**CASES, **FULL}
+        every = {**CASES, **FULL, **HARD}
         cases = {k: every[k] for k in args.only}
     run_cases(cases)
 
