@@ -87,7 +87,9 @@ def main() -> None:
                     print(f"  busy {load}, --threads {s}: {wall:.1f} s "
                           f"(final {attrs.get('threads_final')}, switches "
                           f"{attrs.get('thread_switches')}, probes {attrs.get('thread_probes')}, "
-                          f"steps {attrs.get('time_steps')}, drained {attrs.get('n_drained')})",
+                          f"steps {attrs.get('time_steps')}, drained {attrs.get('n_drained')}, "
+                          f"threaded s on 1/most {attrs.get('threaded_seconds_one', 0):.1f}/"
+                          f"{attrs.get('threaded_seconds_most', 0):.1f})",
                           flush=True)  # fmt: skip
         finally:
             for p in busy:
