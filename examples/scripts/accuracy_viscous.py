@@ -4,7 +4,7 @@ versus wall time, for every accuracy knob of each integrator.
     python examples/scripts/accuracy_viscous.py                       # n = 100, Ca = 1e-2
     python examples/scripts/accuracy_viscous.py --n 60 --ca 1e-2 --quick
     python examples/scripts/accuracy_viscous.py --out docs/figures/accuracy-explicit.png \\
-        --table docs/accuracy-table.md
+        --table accuracy-table.md
     python examples/scripts/accuracy_viscous.py --n 50 --ca 1e-5 --quick \\
         --integrators explicit implicit --reference implicit       # both integrators
     python examples/scripts/accuracy_viscous.py --n 100 --ca 1e-4 --quick \

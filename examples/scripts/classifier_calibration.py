@@ -4,7 +4,7 @@
         --table docs/classification-table.md
 
 Runs seed ensembles of scenes deep inside each regime of the paper's phase diagrams (labels by
-MODEL.md section 6, far from the lines Ca* = 1 and N_f = 1), measures the pattern features the
+docs/model.md section 6, far from the lines Ca* = 1 and N_f = 1), measures the pattern features the
 rule-based classifier uses, and prints, per scene, their means and the labels each classifier
 gives. The thresholds of ``rules`` (porenet/builtin/classifiers/rules.py) were read off this
 table; docs/classification.md quotes it.

@@ -5,7 +5,7 @@
 
 Viscous drainage (kind ``viscous``, default settings) to breakthrough on n x n lattices at
 λ = 0.3, over modified capillary numbers Ca* = Ca (L/a) / [λ/(1-λ²)] (Ca* = 1 is the CF/VF
-line of MODEL.md section 6), and invasion percolation with trapping as the Ca -> 0 limit, on
+line of docs/model.md section 6), and invasion percolation with trapping as the Ca -> 0 limit, on
 the same seeds. Per Ca*: the mean finger width (pores, porenet.analysis.features), D_f by mass
 against distance and by box counting (porenet.analysis.fractal, automatic range; raw, and
 with the invasion-percolation finite-size bias removed), and the drained fraction; means and

@@ -1,1 +1,1 @@
-"""Measures of invasion patterns (MODEL.md section 7)."""
+"""Measures of invasion patterns (docs/model.md section 7)."""

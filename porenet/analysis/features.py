@@ -1,4 +1,4 @@
-"""Geometric features of invasion patterns (MODEL.md section 7).
+"""Geometric features of invasion patterns (docs/model.md section 7).
 
 Pure functions on a pattern drawn on a square grid (a 2-D boolean array, one cell per pore,
 ``True`` where the invader is), plus :func:`pattern_features`, which collects them for a run.
@@ -15,8 +15,9 @@ from scipy import ndimage
 if TYPE_CHECKING:  # pragma: no cover
     from porenet.result import RunData
 
-#: A straight run counts as long from this many pores on (MODEL.md: fracturing opens straight
-#: segments "over many pores"; runs of 1-4 pores are common in any fingering pattern).
+#: A straight run counts as long from this many pores on (docs/model.md section 7:
+#: fracturing opens straight segments "over many pores"; runs of 1-4 pores are common in any
+#: fingering pattern).
 LONG_RUN = 5
 
 
@@ -104,7 +105,7 @@ def anisotropy(grid: np.ndarray) -> dict[str, float]:
 def opened_fraction(data: RunData) -> float:
     """Fraction of the drained pores entered through a throat whose spring was removed.
 
-    Spring ``t`` crosses throat ``t`` (MODEL.md section 5), so a removed spring is a throat
+    Spring ``t`` crosses throat ``t`` (docs/model.md section 5), so a removed spring is a throat
     the solid opened: invasion through opened throats is fracturing, whatever the fractures'
     shape. ``nan`` for runs without mechanics (rigid media) or without entered pores.
     """

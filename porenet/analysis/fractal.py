@@ -1,6 +1,6 @@
 """Fractal dimension of a drained set: mass against distance from the inlet, and box counting.
 
-MODEL.md section 7 and docs/fractal.md. Two estimators, both pure functions of arrays:
+docs/model.md section 7 and docs/fractal.md. Two estimators, both pure functions of arrays:
 
 * :func:`mass_radius`: ``M(R) ~ R^{D_f}``, the drained pores within distance ``R`` of the
   inlet (the curves of the paper's Figs. 4-5);
@@ -49,7 +49,7 @@ MIN_RANGE_RATIO = 4.0
 #: Radii per factor of 2 on the mass-radius ladder when ``n_radii`` is not given.
 RADII_PER_OCTAVE = 4
 #: Asymptotic D_f of invasion percolation on the square lattice, with and without trapping
-#: (MODEL.md section 2; 91/48 is the percolation cluster's).
+#: (docs/model.md section 2; 91/48 is the percolation cluster's).
 IP_DIMENSION = {True: 1.82, False: 91 / 48}
 #: The table is extrapolated in log n down to this size at most (see :func:`finite_size_bias`).
 SMALLEST_EXTRAPOLATED_N = 25

@@ -1,4 +1,4 @@
-"""The paper's dimensionless groups (MODEL.md section 6), in one place.
+"""The paper's dimensionless groups (docs/model.md section 6), in one place.
 
 Plain arithmetic on floats, in any consistent units (SI, or porenet's scaled units with
 ``gamma = a = 1``).

@@ -1,6 +1,6 @@
 """The regimes of the paper's phase diagrams (Figs. 2-3) and their theoretical boundaries.
 
-MODEL.md section 6: capillary fingering (CF) turns into viscous fingering (VF) at
+docs/model.md section 6: capillary fingering (CF) turns into viscous fingering (VF) at
 ``Ca* = Ca (L/a) / [λ/(1-λ²)] ≈ 1``, and fracturing (FR) dominates for ``N_f ≳ 1``. The paper
 draws intermediate regimes (CF/VF, FR/VF, FR/CF) along those lines. :func:`predict_regime`
 places a scene on the diagram.
@@ -37,7 +37,7 @@ def _confidence(margin: float, intermediate: bool) -> float:
 
 
 def predict_regime(ca_star: float | None, fracturing_number: float | None) -> tuple[str, float]:
-    """The regime the theory of MODEL.md section 6 predicts, with a confidence in [0.5, 1].
+    """The regime the theory of docs/model.md section 6 predicts, with a confidence in [0.5, 1].
 
     Parameters
     ----------

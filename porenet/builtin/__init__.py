@@ -1,1 +1,4 @@
-"""First-party kinds, registered through the same hooks as any plugin (DESIGN rule 1)."""
+"""First-party kinds, registered through the hooks any plugin uses.
+
+Built-ins are plugins too (docs/architecture.md, rule 1).
+"""

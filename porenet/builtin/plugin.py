@@ -2,7 +2,8 @@
 
 Only the light config modules (``porenet/builtin/*/config.py``, pydantic and porenet's light
 modules) are imported here; every implementation is a ``"module:Class"`` string, imported only
-when a scene builds the kind (docs/architecture.md, "Light commands").
+when a scene builds the kind (docs/architecture.md, "Configs live apart from their
+implementations").
 """
 
 from __future__ import annotations

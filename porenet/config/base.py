@@ -1,4 +1,4 @@
-"""Base class of every model config (DESIGN rule 4)."""
+"""Base class of every model config (docs/architecture.md, rule 4)."""
 
 from __future__ import annotations
 

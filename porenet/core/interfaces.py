@@ -127,7 +127,7 @@ class Lattice(ABC):
     @property
     def throat_factors(self) -> tuple[float, float]:
         """``(c_A, c_k)``: throat area ``A = c_A r**2`` and permeability ``k = c_k r**2``
-        (MODEL.md section 1; default 1, 1)."""
+        (docs/model.md section 1; default 1, 1)."""
         return 1.0, 1.0
 
     @property
@@ -156,7 +156,7 @@ class Lattice(ABC):
     @cached_property
     def pore_particle_pairs(self) -> tuple[np.ndarray, np.ndarray]:
         """``(pores, particles)``, int64 arrays of equal length: which particles each pore's
-        fluid pushes on (MODEL.md section 5).
+        fluid pushes on (docs/model.md section 5).
 
         Default: a pore touches the two particles of the spring across each of its throats
         (on the square lattice, the pore's four corners; a corner pore misses its outer corner,

@@ -1,5 +1,6 @@
-"""The Plan: which effects a scene calls for and so which objects a run builds (DESIGN rule 7).
+"""The Plan: which effects a scene calls for and so which objects a run builds.
 
+Only the effects a scene calls for are simulated (docs/architecture.md, rule 7).
 The plan is computed from the validated scene and the registry alone (no model is imported or
 built), is printable (``porenet plan SCENE``), and is the only thing
 :class:`~porenet.simulation.Simulation` builds from.
@@ -100,7 +101,7 @@ class Plan:
             ]
             lines.append(
                 f"predicted regime: {regime} (confidence {confidence:.2f}; "
-                f"{', '.join(basis)}; MODEL.md section 6)"
+                f"{', '.join(basis)}; docs/model.md section 6)"
             )
         if self.cost is not None:
             lines.append(
@@ -198,7 +199,7 @@ def _cost(scene: Any) -> CostEstimate:
 
 
 def predicted_regime(scene: Any, numbers: dict[str, float]) -> tuple[str, float] | None:
-    """The regime of MODEL.md section 6 for the scene's Ca* and N_f, with its confidence.
+    """The regime of docs/model.md section 6 for the scene's Ca* and N_f, with its confidence.
 
     Invasion percolation is the limit Ca -> 0 (Ca* None); a rigid solid is N_f = 0. None
     when a viscous scene's Ca* cannot be computed (no disorder, pressure control).
@@ -219,7 +220,7 @@ def predicted_regime(scene: Any, numbers: dict[str, float]) -> tuple[str, float]
 
 
 def dimensionless_numbers(scene: Any) -> dict[str, float]:
-    """Size and disorder numbers of MODEL.md section 6 that the scene determines."""
+    """Size and disorder numbers of docs/model.md section 6 that the scene determines."""
     lat = scene.lattice
     numbers: dict[str, float] = {}
     pore_size = getattr(lat, "pore_size", None)

@@ -1,4 +1,4 @@
-"""The registry owns the names of every kind (DESIGN rule 3).
+"""The registry owns the names of every kind (docs/architecture.md, rule 3).
 
 Kinds are grouped in families (``lattice``, ``fluid``, ``solid``, ``coupler``, ``observer``,
 ``classifier``). Each entry ties a ``kind`` to its config class and to the implementation, which

@@ -1,4 +1,4 @@
-"""The one State every model of a run shares (DESIGN rule 6).
+"""The one State every model of a run shares (docs/architecture.md, rule 6).
 
 All arrays are in scaled units (see :mod:`porenet.core.units`): lengths in ``a``, pressures in
 ``gamma / a``, times in ``mu a / gamma``. Pore arrays have length ``n_pores`` and use the lattice's

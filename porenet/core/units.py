@@ -1,4 +1,4 @@
-"""Scaled units (MODEL.md section 8).
+"""Scaled units (docs/model.md section 8).
 
 Inside porenet lengths are measured in units of the pore size ``a``, pressures in units of
 ``gamma / a`` and times in units of ``mu * a / gamma``, so that a = 0.1 um and a = 1 mm give the

@@ -1,4 +1,4 @@
-"""Burst (Haines jump) statistics of a quasi-static pressure signal (MODEL.md section 3)."""
+"""Burst (Haines jump) statistics of a quasi-static pressure signal (docs/model.md section 3)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Pressure diffusion in the defending fluid over one explicit step (MODEL.md section 4).
+"""Pressure diffusion in the defending fluid over one explicit step (docs/model.md section 4).
 
 Forward Euler for the Darcy fluxes between undrained pores and to the outlet, over the active
 pores only: a list of pores on generic lattices (CSR adjacency), a growing box of rows and

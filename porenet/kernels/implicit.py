@@ -1,4 +1,4 @@
-"""Backward Euler for the viscous model, with sliding menisci and located events (MODEL.md 4).
+"""Backward Euler for the viscous model, sliding menisci and located events (docs/model.md §4).
 
 Scaled units and equations as in :mod:`porenet.kernels.viscous`. One step of length ``dt``
 solves, for every undrained pore i (drained pores are decoupled rows that keep their value),

@@ -1,4 +1,4 @@
-"""Invasion percolation kernels (MODEL.md section 3).
+"""Invasion percolation kernels (docs/model.md section 3).
 
 Pure functions on arrays. Pressures are scaled by ``gamma / a`` and apertures by ``a``, so the
 entry pressure of a throat of aperture ``r`` is ``2 / r``.

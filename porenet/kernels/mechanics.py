@@ -1,4 +1,4 @@
-"""Block-and-spring mechanics with Hertzian contacts (MODEL.md section 5).
+"""Block-and-spring mechanics with Hertzian contacts (docs/model.md section 5).
 
 Pure functions on arrays, in scaled units: lengths by the pore size ``a``, pressures by
 ``gamma / a``, forces by ``gamma a``, stiffnesses (force per length) by ``gamma`` and the

@@ -1,4 +1,4 @@
-"""Menisci and injection over one step of the viscous model (MODEL.md section 4).
+"""Menisci and injection over one step of the viscous model (docs/model.md section 4).
 
 Pure numba helpers on arrays, in scaled units (see :mod:`porenet.kernels.viscous`).
 

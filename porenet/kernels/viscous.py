@@ -1,4 +1,4 @@
-"""Kernels of the dynamic viscous drainage model (MODEL.md section 4).
+"""Kernels of the dynamic viscous drainage model (docs/model.md section 4).
 
 Pure functions on arrays, in scaled units: lengths by ``a``, pressures by ``gamma / a``, times
 by ``mu a / gamma``, volumes by ``a**3``. In these units the paper's equations read

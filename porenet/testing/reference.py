@@ -1,4 +1,4 @@
-"""Slow, obvious reference implementations, for tests (DESIGN rule 5).
+"""Slow, obvious reference implementations, for tests (docs/architecture.md, rule 5).
 
 These follow the textbook definitions literally (a heap of tuples; a flood fill after every
 step to find trapped clusters) and are O(N^2) in the worst case: use them on small lattices.

@@ -30,7 +30,7 @@ def aperture_change(data: RunData) -> np.ndarray:
 
 def spring_segments(data: RunData, springs: np.ndarray) -> np.ndarray:
     """(K, 2, 2) end points (m) of the given springs: the two particles either side of each
-    throat, ``a`` from its midpoint across the throat (MODEL.md §1)."""
+    throat, ``a`` from its midpoint across the throat (docs/model.md section 1)."""
     pores = np.asarray(data.throat_pores)[springs]
     p, q = data.pore_coords[pores[:, 0]], data.pore_coords[pores[:, 1]]
     mid, d = 0.5 * (p + q), q - p

@@ -53,7 +53,7 @@ def test_valid_configs_load(fluid):
 
 def test_defaults_are_the_papers():
     cfg = load_scene(scene(capillary_number=1e-2)).fluid
-    assert cfg.viscosity == 1e-3 and cfg.interfacial_tension == 0.07  # MODEL.md section 6
+    assert cfg.viscosity == 1e-3 and cfg.interfacial_tension == 0.07  # docs/model.md section 6
     assert cfg.control == "rate" and cfg.reservoir == "pore" and cfg.meniscus == "threshold"
     assert 0 < cfg.safety_factor <= 1 and cfg.injection_pressure == 0.0
 

@@ -3,7 +3,7 @@
 scaling, determinism, the run file and the meniscus bookkeeping.
 
 All runs are small (n <= 30) so that the file runs in seconds; the physics claims are those of
-docs/model.md ("Dynamic viscous drainage") and MODEL.md section 4.
+docs/model.md ("Dynamic viscous drainage") and docs/model.md section 4.
 """
 
 from __future__ import annotations
@@ -239,7 +239,7 @@ def finger_measures(ca_star):
 @pytest.mark.slow
 def test_higher_ca_gives_thinner_fingers_and_a_lower_fractal_dimension():
     """At fixed λ = 0.3, raising Ca* = Ca (L/a) / [λ/(1-λ²)] through the CF/VF line (Ca* = 1)
-    thins the fingers and lowers D_f (MODEL.md section 6-7).
+    thins the fingers and lowers D_f (docs/model.md section 6-7).
 
     Measured (n = 128, seeds 0-3, means ± standard errors; `python
     examples/scripts/fingers_vs_ca.py --n 128 --seeds 4 --ca-star 1 30`): finger width IP

@@ -1,6 +1,6 @@
 """Built-in pattern classifiers (kinds ``rules``, ``theory`` and ``none``).
 
-A classifier labels a finished run with a regime (MODEL.md section 7); the scene's
+A classifier labels a finished run with a regime (docs/model.md section 7); the scene's
 ``[classifier]`` section picks one (default ``rules``), ``kind = "none"`` skips the analysis.
 """
 

@@ -60,6 +60,6 @@ class RulesClassifierConfig(ModelConfig):
 
 
 class TheoryClassifierConfig(ModelConfig):
-    """Regime predicted from Ca* and N_f alone (MODEL.md section 6); looks at no pattern."""
+    """Regime predicted from Ca* and N_f alone (docs/model.md section 6); looks at no pattern."""
 
     kind: Literal["theory"] = "theory"

@@ -1,6 +1,6 @@
 """The rule-based classifier: CF, VF, FR or an intermediate label from the pattern itself.
 
-MODEL.md section 7: D_f alone cannot classify a finite sample, so the rules combine it with
+docs/model.md section 7: D_f alone cannot classify a finite sample, so the rules combine it with
 geometric features (:func:`porenet.analysis.features.pattern_features`):
 
 1. **Fracturing** is recognised by a fraction ``f``, the larger of two: drained pores in thin

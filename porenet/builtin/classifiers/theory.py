@@ -1,4 +1,4 @@
-"""The theory predictor: the regime of MODEL.md section 6 from the scene's Ca* and N_f."""
+"""The theory predictor: the regime of docs/model.md section 6 from the scene's Ca* and N_f."""
 
 from __future__ import annotations
 

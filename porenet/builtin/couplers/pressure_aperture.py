@@ -1,4 +1,4 @@
-"""The fluid-solid coupler: pore pressures to the solid, apertures back (MODEL.md section 5)."""
+"""The fluid-solid coupler: pore pressures to the solid, apertures back (docs/model.md §5)."""
 
 from __future__ import annotations
 

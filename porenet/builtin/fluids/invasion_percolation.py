@@ -1,4 +1,4 @@
-"""Quasi-static invasion percolation (MODEL.md section 3) as a FluidModel."""
+"""Quasi-static invasion percolation (docs/model.md section 3) as a FluidModel."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The paper's dynamic drainage model (MODEL.md section 4) as a FluidModel, kind ``viscous``."""
+"""The paper's dynamic drainage model (docs/model.md §4) as a FluidModel, kind ``viscous``."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The paper's square lattice of dented blocks (MODEL.md section 1).
+"""The paper's square lattice of dented blocks (docs/model.md section 1).
 
 Pores sit at cell centres of an ``n x n`` grid, pore ``(i, j)`` (row i, column j) has index
 ``i*n + j`` and centre ``(x, y) = (2j + 1, 2i + 1)`` in units of ``a`` (the node spacing is 2a).

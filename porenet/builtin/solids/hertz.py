@@ -1,4 +1,4 @@
-"""The paper's deformable medium: prestressed blocks and Hertzian springs (MODEL.md section 5)."""
+"""The paper's deformable medium: prestressed blocks and Hertzian springs (docs/model.md §5)."""
 
 from __future__ import annotations
 

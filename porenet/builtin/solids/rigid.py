@@ -8,7 +8,7 @@ from porenet.config.base import ModelConfig
 
 
 class RigidConfig(ModelConfig):
-    """Rigid solid skeleton (MODEL.md section 5, first bullet)."""
+    """Rigid solid skeleton (docs/model.md section 5, first bullet)."""
 
     kind: Literal["rigid"] = "rigid"
     builds_nothing: ClassVar[bool] = True

@@ -1,4 +1,4 @@
-"""The theory predictor places scenes on the paper's phase diagrams (MODEL.md section 6)."""
+"""The theory predictor places scenes on the paper's phase diagrams (docs/model.md section 6)."""
 
 from __future__ import annotations
 

@@ -27,7 +27,7 @@ class Centroid(BaseModel):
     thin_run_fraction: float = Field(ge=0, le=1, description="Drained fraction in thin runs.")
 
 
-#: Defaults: the paper's D_f per regime (MODEL.md section 7) with the widths and thin-run
+#: Defaults: the paper's D_f per regime (docs/model.md section 7) with the widths and thin-run
 #: fractions porenet's calibration ensembles give (docs/classification.md).
 DEFAULT_CENTROIDS = (
     Centroid(regime="CF", fractal_dimension=1.82, finger_width_mean=1.85, thin_run_fraction=0.0),
