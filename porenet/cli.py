@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import os
 import sys
 import time
 from pathlib import Path
@@ -458,6 +459,10 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("porenet: interrupted; no run file was written", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader went away (``porenet plan | head``): not an error
+        # point stdout at /dev/null so that Python's flush at exit does not fail again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except Exception as exc:  # a bug: say so briefly, show the traceback on request
         if args.traceback:
             raise

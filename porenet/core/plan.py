@@ -228,7 +228,9 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     if n is not None:
         numbers["pores_per_side"] = float(n)
         if pore_size is not None:
-            numbers["L (m)"] = float(n) * float(pore_size)
+            # two lengths, both printed with their convention (docs/model.md section 1)
+            numbers["L = n a (m), the L of Ca* and N_f"] = float(n) * float(pore_size)
+            numbers["lattice extent 2 n a (m)"] = 2.0 * float(n) * float(pore_size)
     lam = getattr(lat, "disorder", None)
     if lam is not None:
         numbers["disorder"] = float(lam)

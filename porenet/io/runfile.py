@@ -102,6 +102,10 @@ def write_run(path: str | Path, data: RunData) -> Path:
             lat.attrs["kind"] = str(data.scene.get("lattice", {}).get("kind", ""))
             if data.grid_shape is not None:
                 lat.attrs["grid_shape"] = np.asarray(data.grid_shape, dtype=np.int64)
+                # the two lengths of a grid, each with its convention (docs/run-file.md)
+                side = float(max(data.grid_shape))
+                lat.attrs["length_L"] = side * data.pore_size
+                lat.attrs["extent"] = 2.0 * side * data.pore_size
             lat.create_dataset("apertures", data=data.apertures, compression="gzip")
             lat.create_dataset("throat_pores", data=data.throat_pores, compression="gzip")
             lat.create_dataset("pore_coords", data=data.pore_coords, compression="gzip")

@@ -47,8 +47,10 @@ def grid_axes(
 
 
 def label_map(ax: Axes, unit: str) -> None:
-    """Axis labels in ``unit`` and an equal aspect ratio."""
-    ax.set_xlabel(f"x ({unit})")
+    """Axis labels in ``unit`` and an equal aspect ratio. The axes span the lattice's physical
+    extent, ``2 n a`` (node spacing 2a), twice the paper's ``L = n a`` (docs/model.md
+    section 1); the x label says so."""
+    ax.set_xlabel(f"x ({unit}; the lattice spans 2 n a, L = n a)")
     ax.set_ylabel(f"y ({unit})")
     ax.set_aspect("equal")
 

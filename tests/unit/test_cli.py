@@ -143,3 +143,24 @@ def test_compile_command(capsys, monkeypatch):
     assert main(["compile"]) == 0
     out = capsys.readouterr().out
     assert "invasion percolation:" in out and "porenet compile:" in out
+
+
+def test_a_reader_that_goes_away_is_not_an_error(tmp_path):
+    """``porenet plan SCENE | head -1``: the pipe closes before porenet writes (it takes
+    longer to start than the reader to close); exit 0 and no "internal error"."""
+    import os
+    import subprocess
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # the reader is gone before the first line
+    proc = subprocess.run(
+        [sys.executable, "-m", "porenet", "plan", "--example", "quickstart"],
+        stdout=write_end,
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=120,
+    )
+    os.close(write_end)
+    assert proc.returncode == 0, proc.stderr
+    assert "internal error" not in proc.stderr and "Traceback" not in proc.stderr

@@ -129,7 +129,9 @@ def test_pattern_by_order_or_time(runs):
     fig = plot_pattern(ip)
     ax, cbar = fig.axes
     assert cbar.get_ylabel() == "drainage step"
-    assert ax.get_xlabel() == "x (µm)" and ax.get_ylabel() == "y (µm)"
+    # the axes span 2 n a (docs/model.md section 1), and the label says which length it is
+    assert ax.get_xlabel() == "x (µm; the lattice spans 2 n a, L = n a)"
+    assert ax.get_ylabel() == "y (µm)"
     assert ax.get_xlim() == pytest.approx((0.0, 24 * 2e-7 / 1e-6))
     image = ax.get_images()[-1].get_array()
     assert np.nanmax(image) == len(ip.order) - 1
@@ -238,3 +240,19 @@ def test_importing_viz_loads_no_matplotlib():
     code = "import sys, porenet.viz, porenet.cli; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_the_run_file_names_both_lengths(runs):
+    """/lattice attrs: length_L = n a (the paper's L) and extent = 2 n a, the span of the
+    pore centres plus half a node spacing on each side."""
+    import h5py
+
+    with h5py.File(runs["ip"]) as f:
+        lat = f["lattice"]
+        a, cols = lat.attrs["pore_size"], max(lat.attrs["grid_shape"])
+        assert lat.attrs["length_L"] == pytest.approx(cols * a)
+        assert lat.attrs["extent"] == pytest.approx(2 * cols * a)
+        extent = lat.attrs["extent"]
+        coords = lat["pore_coords"][:]
+    assert coords[:, 0].min() - a == pytest.approx(0.0, abs=1e-3 * a)
+    assert coords[:, 0].max() + a == pytest.approx(extent)
