@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # pragma: no cover
 SUMMARY_KEYS = (
     "fractal_dimension",
     "fractal_dimension_error",
+    "fractal_dimension_note",
     "regime",
     "regime_confidence",
     "classifier",
@@ -36,12 +37,51 @@ SUMMARY_KEYS = (
 def measure_dimension(data: RunData) -> FractalFit | None:
     """The pattern's D_f (:func:`porenet.analysis.fractal.pattern_dimension`), or ``None``
     when the pattern cannot be measured (too few drained pores, no grid)."""
+    return dimension_or_reason(data)[0]
+
+
+def dimension_or_reason(data: RunData) -> tuple[FractalFit | None, str]:
+    """The pattern's D_f, or ``None`` and the reason it cannot be measured."""
     from porenet.analysis.fractal import pattern_dimension
 
     try:
-        return pattern_dimension(data)
-    except ValueError:
-        return None
+        fit = pattern_dimension(data)
+    except ValueError as exc:
+        return None, f"D_f not measured: {exc}"
+    if not math.isfinite(fit.dimension):
+        return None, "D_f not measured: the fit gave no finite slope"
+    return fit, ""
+
+
+#: Labels with a fracturing part, and what remains of each in a medium that cannot fracture.
+FRACTURING = {"FR": None, "FR/VF": "VF", "FR/CF": "CF"}
+
+
+def _rigid(data: RunData) -> bool:
+    solid = (getattr(data, "scene", None) or {}).get("solid") or {}
+    return str(solid.get("kind", "rigid")) == "rigid"
+
+
+def _without_fracturing(
+    data: RunData, verdict: Classification, kind: str
+) -> tuple[Classification, str]:
+    """A rigid medium cannot fracture: a fracturing label (straight runs of weak disorder look
+    like fractures) becomes its fingering part, or, for plain FR, the rules' fingering vote or
+    the theory prediction, at half the confidence; the note says so."""
+    regime = FRACTURING[verdict.regime]
+    if regime is None:
+        vote = verdict.details.get("fingering_vote")
+        if vote is not None and math.isfinite(float(vote)):
+            regime = "CF" if float(vote) > 0 else "VF"
+        else:
+            theory, _ = _theory_instead(data, "")
+            regime = "VF" if theory is None or theory.regime.startswith("FR") else theory.regime
+    note = (
+        f"{kind} said {verdict.regime} in a rigid medium, which cannot fracture (straight runs "
+        f"of weak disorder); labelled {regime}, confidence halved"
+    )
+    log.warning("%s", note)
+    return Classification(regime, 0.5 * float(verdict.confidence), verdict.details), note
 
 
 def _theory_instead(data: RunData, why: str) -> tuple[Classification | None, str]:
@@ -62,7 +102,10 @@ def _theory_instead(data: RunData, why: str) -> tuple[Classification | None, str
 def classify_run(data: RunData, classifier: Classifier, kind: str) -> dict[str, Any]:
     """The summary attributes of :data:`SUMMARY_KEYS` for one run.
 
-    ``fractal_dimension`` and its error are ``nan`` when the pattern cannot be measured. A
+    ``fractal_dimension`` and its error are ``nan`` when the pattern cannot be measured, and
+    ``fractal_dimension_note`` then says why (empty otherwise). A fracturing label (FR, FR/VF,
+    FR/CF) in a rigid medium is replaced by its fingering part at half the confidence, with a
+    note (docs/classification.md). A
     classifier that cannot judge the pattern (it raises ``ValueError``) is replaced by the
     theory predictor with half its confidence, and ``classifier_note`` says so (it is empty
     otherwise); if the scene determines no theory prediction either, ``regime`` and
@@ -90,16 +133,21 @@ def classify_run(data: RunData, classifier: Classifier, kind: str) -> dict[str, 
             raise PluginError(
                 f"classifier {kind!r} returned confidence {verdict.confidence}, not in [0, 1]"
             )
+        if verdict.regime in FRACTURING and _rigid(data):
+            verdict, rigid_note = _without_fracturing(data, verdict, kind)
+            note = f"{note}; {rigid_note}" if note else rigid_note
     details = {} if verdict is None else verdict.details
-    if "fractal_dimension" in details:
+    if "fractal_dimension" in details and math.isfinite(float(details["fractal_dimension"])):
         dimension = float(details["fractal_dimension"])
         error = float(details.get("fractal_dimension_error", math.nan))
+        why = ""
     else:
-        fit = measure_dimension(data)
+        fit, why = dimension_or_reason(data)
         dimension, error = (math.nan, math.nan) if fit is None else (fit.dimension, fit.error)
     return {
         "fractal_dimension": dimension,
         "fractal_dimension_error": error,
+        "fractal_dimension_note": why,
         "regime": None if verdict is None else verdict.regime,
         "regime_confidence": None if verdict is None else float(verdict.confidence),
         "classifier": kind,
@@ -111,8 +159,12 @@ def describe(summary: dict[str, Any]) -> str:
     """One line for people: the regime, its confidence and classifier, and D_f."""
     if summary.get("regime") is None:
         return f"not classified: {summary.get('classifier_note', '')}"
+    dimension = float(summary.get("fractal_dimension", math.nan))
+    if math.isfinite(dimension):
+        measured = f"D_f = {dimension:.3f} ± {summary['fractal_dimension_error']:.3f}"
+    else:  # a stated reason, never "nan ± nan"
+        measured = summary.get("fractal_dimension_note") or "D_f not measured"
     return (
         f"{summary['regime']} (confidence {summary['regime_confidence']:.2f}, "
-        f"{summary['classifier']}), D_f = {summary['fractal_dimension']:.3f} "
-        f"± {summary['fractal_dimension_error']:.3f}"
+        f"{summary['classifier']}), {measured}"
     )

@@ -125,3 +125,46 @@ def test_each_model_s_run_file_is_classified_as_its_regime(
     assert main(["classify", str(path), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["regime"] == expected
     assert read_run(path).summary["regime"] == expected
+
+
+class _Says(Classifier):
+    """Always the given verdict (to test what classify_run does with it)."""
+
+    def __init__(self, regime, details=None):
+        self.regime, self.details = regime, details or {}
+
+    def classify(self, run):
+        return Classification(self.regime, 0.8, dict(self.details))
+
+
+@pytest.mark.parametrize(
+    "said, details, expected",
+    [("FR/VF", {}, "VF"), ("FR/CF", {}, "CF"), ("FR", {"fingering_vote": 0.4}, "CF"),
+     ("FR", {"fingering_vote": -0.4}, "VF")],
+)  # fmt: skip
+def test_a_rigid_medium_never_gets_a_fracturing_label(ip_file, said, details, expected):
+    """Nothing can fracture in a rigid medium (straight runs of weak disorder look like
+    fractures): the fingering part of the label, at half the confidence, and a note."""
+    verdict = classify_run(read_run(ip_file), _Says(said, details), "stub")
+    assert verdict["regime"] == expected
+    assert verdict["regime_confidence"] == pytest.approx(0.4)
+    assert "rigid medium" in verdict["classifier_note"]
+
+
+def test_a_deformable_medium_keeps_its_fracturing_label():
+    run = porenet.run(IP | {"solid": {"kind": "hertz", "fracturing_number": 1.0},
+                            "classifier": {"kind": "none"}})  # fmt: skip
+    verdict = classify_run(run.data, _Says("FR"), "stub")
+    assert verdict["regime"] == "FR" and verdict["classifier_note"] == ""
+
+
+def test_an_unmeasurable_dimension_says_why(capsys):
+    """n = 3: a reason instead of "D_f = nan ± nan", printed and stored."""
+    from porenet.analysis.classify import describe
+
+    run = porenet.run(IP | {"lattice": {"n": 3, "disorder": 0.3}})
+    summary = run.summary
+    assert math.isnan(summary["fractal_dimension"])
+    assert summary["fractal_dimension_note"].startswith("D_f not measured: ")
+    line = describe(summary)
+    assert "nan" not in line and "D_f not measured" in line
