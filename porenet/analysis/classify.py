@@ -74,8 +74,13 @@ def _without_fracturing(
         if vote is not None and math.isfinite(float(vote)):
             regime = "CF" if float(vote) > 0 else "VF"
         else:
-            theory, _ = _theory_instead(data, "")
-            regime = "VF" if theory is None or theory.regime.startswith("FR") else theory.regime
+            from porenet.builtin.classifiers.theory import TheoryClassifier
+
+            try:
+                regime = TheoryClassifier().classify(data).regime
+            except ValueError:  # the scene determines no prediction
+                regime = "VF"
+            regime = "VF" if regime.startswith("FR") else regime
     note = (
         f"{kind} said {verdict.regime} in a rigid medium, which cannot fracture (straight runs "
         f"of weak disorder); labelled {regime}, confidence halved"

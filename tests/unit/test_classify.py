@@ -168,3 +168,9 @@ def test_an_unmeasurable_dimension_says_why(capsys):
     assert summary["fractal_dimension_note"].startswith("D_f not measured: ")
     line = describe(summary)
     assert "nan" not in line and "D_f not measured" in line
+
+
+def test_plain_fr_without_a_vote_takes_the_theory_prediction(ip_file):
+    verdict = classify_run(read_run(ip_file), _Says("FR"), "stub")
+    assert verdict["regime"] == "CF"  # the theory's label for this slow, rigid scene
+    assert verdict["regime_confidence"] == pytest.approx(0.4)
