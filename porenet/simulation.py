@@ -310,6 +310,12 @@ class Simulation:
         if self.threads is not None:
             summary.update(self.threads.summary())
         summary["compile_time_s"] = self.compile_notice.compiled_seconds
+        from porenet.analysis.suspect import suspect_physics
+
+        suspect = suspect_physics(summary, len(lat.throat_pores))
+        for sentence in suspect:
+            log.warning("suspect result: %s", sentence)
+        summary["physics_warnings"] = "; ".join(suspect)
         return RunData(
             porenet_version=__version__,
             scene=self.plan.scene.model_dump(mode="json"),
