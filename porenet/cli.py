@@ -53,6 +53,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     source = _scene_source(args)
     output = Path(args.output) if args.output else Path(f"{source.stem}.h5")
+    _check_output(output, args.overwrite)
     if args.plot and not Path(args.plot).resolve().parent.is_dir():
         raise ConfigError(f"--plot {args.plot}: directory does not exist")
     progress = not args.quiet
@@ -86,6 +87,33 @@ def cmd_run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"figure: {args.plot}")
     return 0
+
+
+def _check_output(output: Path, overwrite: bool) -> None:
+    """Before anything runs: the run file's directory exists (exit 2, like ``--plot``), and an
+    existing file is replaced only if it is a porenet run file, or with ``--overwrite``
+    (docs/run-file.md, "Overwriting"). A run file is written to a temporary name and renamed
+    at the end, so a failed run never touches the old one."""
+    parent = output.resolve().parent
+    if not parent.is_dir():
+        raise ConfigError(f"-o {output}: directory {parent} does not exist")
+    if output.is_dir():
+        raise ConfigError(f"-o {output}: is a directory; give a file name")
+    if output.exists() and not overwrite and not _is_run_file(output):
+        raise ConfigError(
+            f"-o {output}: exists and is not a porenet run file; not replaced (choose another "
+            "name, or --overwrite to replace it)"
+        )
+
+
+def _is_run_file(path: Path) -> bool:
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            return "porenet_version" in f.attrs
+    except OSError:  # not HDF5, unreadable
+        return False
 
 
 def _configure_threads(value: str | None) -> None:
@@ -313,7 +341,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("run", help="run a scene and write a run file")
     _add_scene_args(p)
-    p.add_argument("-o", "--output", help="run file to write (default: SCENE_STEM.h5)")
+    p.add_argument("-o", "--output", help="run file to write (default: SCENE_STEM.h5); an "
+                   "existing porenet run file there is replaced, any other file only with "
+                   "--overwrite")  # fmt: skip
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the -o file even if it is not a porenet run file")  # fmt: skip
     p.add_argument("--plot", metavar="PNG", help="also save the pattern as a picture")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     p.add_argument(

@@ -164,3 +164,21 @@ def test_a_reader_that_goes_away_is_not_an_error(tmp_path):
     os.close(write_end)
     assert proc.returncode == 0, proc.stderr
     assert "internal error" not in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_output_never_destroys_a_file_that_is_not_a_run_file(write_scene, tmp_path, capsys):
+    """-o over a non-run file: exit 2 before running, the file untouched; --overwrite replaces
+    it; an existing run file is replaced (re-running a scene); a missing directory exits 2."""
+    scene = str(write_scene(SCENE))
+    notes = tmp_path / "notes.h5"
+    notes.write_text("my notes")
+    assert main(["run", scene, "-q", "-o", str(notes)]) == 2
+    assert "exists and is not a porenet run file" in capsys.readouterr().err
+    assert notes.read_text() == "my notes"
+    assert main(["run", scene, "-q", "-o", str(notes), "--overwrite"]) == 0
+    with h5py.File(notes) as f:
+        assert "porenet_version" in f.attrs
+    assert main(["run", scene, "-q", "-o", str(notes)]) == 0  # a run file: replaced
+    assert main(["run", scene, "-q", "-o", str(tmp_path / "absent" / "x.h5")]) == 2
+    assert main(["run", scene, "-q", "-o", str(tmp_path)]) == 2
+    assert "is a directory" in capsys.readouterr().err
