@@ -99,21 +99,13 @@ def _check_output(output: Path, overwrite: bool) -> None:
         raise ConfigError(f"-o {output}: directory {parent} does not exist")
     if output.is_dir():
         raise ConfigError(f"-o {output}: is a directory; give a file name")
-    if output.exists() and not overwrite and not _is_run_file(output):
+    from porenet.io.runfile import is_run_file
+
+    if output.exists() and not overwrite and not is_run_file(output):
         raise ConfigError(
             f"-o {output}: exists and is not a porenet run file; not replaced (choose another "
             "name, or --overwrite to replace it)"
         )
-
-
-def _is_run_file(path: Path) -> bool:
-    import h5py
-
-    try:
-        with h5py.File(path, "r") as f:
-            return "porenet_version" in f.attrs
-    except OSError:  # not HDF5, unreadable
-        return False
 
 
 def _configure_threads(value: str | None) -> None:

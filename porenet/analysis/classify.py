@@ -74,13 +74,8 @@ def _without_fracturing(
         if vote is not None and math.isfinite(float(vote)):
             regime = "CF" if float(vote) > 0 else "VF"
         else:
-            from porenet.builtin.classifiers.theory import TheoryClassifier
-
-            try:
-                regime = TheoryClassifier().classify(data).regime
-            except ValueError:  # the scene determines no prediction
-                regime = "VF"
-            regime = "VF" if regime.startswith("FR") else regime
+            theory, _ = _theory(data)
+            regime = "VF" if theory is None or theory.regime.startswith("FR") else theory.regime
     note = (
         f"{kind} said {verdict.regime} in a rigid medium, which cannot fracture (straight runs "
         f"of weak disorder); labelled {regime}, confidence halved"
@@ -89,14 +84,21 @@ def _without_fracturing(
     return Classification(regime, 0.5 * float(verdict.confidence), verdict.details), note
 
 
-def _theory_instead(data: RunData, why: str) -> tuple[Classification | None, str]:
-    """The theory prediction with half its confidence, or None if the scene has none."""
+def _theory(data: RunData) -> tuple[Classification | None, str]:
+    """The theory predictor's verdict, or None and why the scene determines none."""
     from porenet.builtin.classifiers.theory import TheoryClassifier
 
     try:
-        theory = TheoryClassifier().classify(data)
+        return TheoryClassifier().classify(data), ""
     except ValueError as exc:
-        note = f"{why}; no theory prediction either ({exc}): not classified"
+        return None, str(exc)
+
+
+def _theory_instead(data: RunData, why: str) -> tuple[Classification | None, str]:
+    """The theory prediction with half its confidence, or None if the scene has none."""
+    theory, reason = _theory(data)
+    if theory is None:
+        note = f"{why}; no theory prediction either ({reason}): not classified"
         log.warning("%s", note)
         return None, note
     note = f"{why}; theory prediction, confidence halved"

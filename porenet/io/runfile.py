@@ -165,6 +165,23 @@ def write_run(path: str | Path, data: RunData) -> Path:
     return path
 
 
+def _is_porenet(f: Any) -> bool:
+    """``f``, an open ``h5py.File``, holds a porenet run."""
+    return "porenet_version" in f.attrs and "lattice" in f
+
+
+def is_run_file(path: str | Path) -> bool:
+    """Whether ``path`` is a porenet run file (what :func:`read_run` accepts as one); False
+    for a missing, non-HDF5 or foreign file."""
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            return _is_porenet(f)
+    except OSError:
+        return False
+
+
 def read_run(path: str | Path) -> RunData:
     """Read a run file written by :func:`write_run` (format version 1 or 2).
 
@@ -185,7 +202,7 @@ def read_run(path: str | Path) -> RunData:
     except OSError as exc:
         raise RunFileError(f"{path}: not an HDF5 file ({exc})") from None
     with f:
-        if "porenet_version" not in f.attrs or "lattice" not in f:
+        if not _is_porenet(f):
             raise RunFileError(f"{path}: not a porenet run file")
         version = int(f.attrs.get("format_version", 0))
         if version > FORMAT_VERSION:
