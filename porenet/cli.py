@@ -14,10 +14,14 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from porenet._version import __version__
 from porenet.core.errors import ConfigError, PorenetError
 from porenet.plot_kinds import PLOT_KIND_DESCRIPTIONS
+
+if TYPE_CHECKING:  # pragma: no cover
+    from porenet.io.checkpoint import CheckpointSchedule
 
 log = logging.getLogger("porenet")
 
@@ -58,12 +62,76 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise ConfigError(f"--plot {args.plot}: directory does not exist")
     progress = not args.quiet
     _configure_threads(args.threads)
+    checkpoints = _checkpoints(args, output)
     sim = Simulation.from_scene(source, args.overrides, output=output, progress=progress)
-    result = sim.run()
+    _report(args, source.name, sim.run(checkpoints))
+    return 0
+
+
+def _checkpoints(args: argparse.Namespace, output: Path) -> CheckpointSchedule | None:
+    """The schedule of ``--checkpoint-every`` (None without it). A checkpoint already where
+    this run would keep its own is never replaced silently (docs/run-file.md, "Checkpoints")."""
+    from porenet.io.checkpoint import (
+        CheckpointError,
+        CheckpointSchedule,
+        checkpoint_path,
+        read_header,
+    )
+
+    path = checkpoint_path(output)
+    if path.exists() and not args.overwrite:
+        try:
+            held = f"holds a checkpoint of {read_header(path).describe()}"
+        except CheckpointError:
+            held = "exists"
+        raise ConfigError(
+            f"{path} {held}; go on with `porenet resume {path}`, or pass --overwrite to start "
+            "afresh (the checkpoint is replaced)"
+        )
+    if args.checkpoint_every is None:
+        # none written; one left by an earlier run (replaced with --overwrite) goes at the end
+        return CheckpointSchedule(path) if path.exists() else None
+    return CheckpointSchedule.parse(args.checkpoint_every, path)
+
+
+def cmd_resume(args: argparse.Namespace) -> int:
+    from porenet.io.checkpoint import CheckpointSchedule, checkpoint_path
+    from porenet.simulation import Simulation
+
+    path = Path(args.checkpoint)
+    _configure_threads(args.threads)
+    sim = Simulation.resume(path, output=args.output, progress=not args.quiet)
+    output = sim.plan.output
+    if output is not None:
+        _check_output(Path(output), args.overwrite)
+    # the resumed run keeps a checkpoint too (every 10 minutes unless told otherwise), beside
+    # its run file; it is removed when the run ends
+    target = checkpoint_path(output) if output is not None else path
+    schedule = CheckpointSchedule.parse(args.checkpoint_every or "10m", target)
+    if not args.quiet:
+        print(f"resuming {path}: " + _describe_resume(sim), file=sys.stderr)
+    result = sim.run(schedule)
+    if target != path:
+        path.unlink(missing_ok=True)
+    _report(args, sim.plan.scene.name, result)
+    return 0
+
+
+def _describe_resume(sim: Any) -> str:
+    state = sim.state
+    return (
+        f"scene {sim.plan.scene.name!r} at {state.n_drained:,} drained pores, step "
+        f"{state.step:,}, {sim.wall_time():.0f} s of wall time so far"
+    )
+
+
+def _report(args: argparse.Namespace, name: str, result: Any) -> None:
+    """The lines ``run`` and ``resume`` print when a run ends (unless ``-q``), and the
+    picture of ``--plot``."""
     s = result.summary
     if not args.quiet:
         print(
-            f"{source.name}: {s['stop_reason']} after {s['n_drained']} drained pores "
+            f"{name}: {s['stop_reason']} after {s['n_drained']} drained pores "
             f"({100 * s['drained_fraction']:.2f} %), trapped {100 * s['trapped_fraction']:.2f} %, "
             f"{s['wall_time_s']:.3f} s"
         )
@@ -86,7 +154,6 @@ def cmd_run(args: argparse.Namespace) -> int:
         save_figure(result.plot(), args.plot)
         if not args.quiet:
             print(f"figure: {args.plot}")
-    return 0
 
 
 def _check_output(output: Path, overwrite: bool) -> None:
@@ -322,6 +389,16 @@ def cmd_schema(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_checkpoint_arg(p: argparse.ArgumentParser, default: str | None = None) -> None:
+    p.add_argument(
+        "--checkpoint-every",
+        metavar="WHEN",
+        help="write a checkpoint beside the run file (OUT.h5.checkpoint) every WHEN: a "
+        "duration (90s, 10m, 2h) or a number of drained pores (5000); `porenet resume` "
+        "finishes a killed run from it" + (f" (default {default})" if default else ""),
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="porenet", description="Pore-scale drainage in deformable disordered media."
@@ -347,7 +424,25 @@ def build_parser() -> argparse.ArgumentParser:
         "measures itself on 1 thread and on every core and keeps the faster); results do "
         "not depend on it",
     )
+    _add_checkpoint_arg(p)
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser(
+        "resume",
+        help="finish a run from its checkpoint (porenet run --checkpoint-every)",
+        description="Go on with a run from the checkpoint it left (OUT.h5.checkpoint) and "
+        "write its run file: the result is the one the uninterrupted run gives, to the bit "
+        '(docs/run-file.md, "Checkpoints"). The checkpoint is removed when the run ends.',
+    )
+    p.add_argument("checkpoint", help="checkpoint file (OUT.h5.checkpoint)")
+    p.add_argument("-o", "--output", help="run file to write (default: the run's own -o)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the -o file even if it is not a porenet run file")  # fmt: skip
+    p.add_argument("--plot", metavar="PNG", help="also save the pattern as a picture")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    p.add_argument("--threads", metavar="N", help="as for `porenet run`")
+    _add_checkpoint_arg(p, default="10m")
+    p.set_defaults(func=cmd_resume)
 
     p = sub.add_parser(
         "compile",

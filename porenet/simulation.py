@@ -5,7 +5,7 @@ from __future__ import annotations
 import logging
 import sys
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -28,6 +28,9 @@ from porenet.core.units import Scales
 from porenet.kernels.bursts import burst_sizes
 from porenet.result import RunData, RunResult
 from porenet.threads import CALL_SECONDS, ThreadGovernor, thread_setting
+
+if TYPE_CHECKING:  # pragma: no cover
+    from porenet.io.checkpoint import CheckpointSchedule
 
 log = logging.getLogger(__name__)
 
@@ -107,6 +110,10 @@ class Simulation:
             self.classifier = entry.load()(scene.classifier)  # type: ignore[misc]
         self.state = State.initial(self.lattice.n_pores, self.lattice.initial_apertures)
         self.build_time = time.perf_counter() - t0
+        #: Wall time of the run before the current stretch (building, earlier processes).
+        self._wall_before = self.build_time
+        self._clock = time.perf_counter()
+        self._started = False
 
     @classmethod
     def from_scene(
@@ -163,13 +170,38 @@ class Simulation:
             return self.fluid.stop_reason or "complete"
         return None
 
-    def run(self) -> RunResult:
-        """Run to the stop criterion and return the result (observers closed, file written)."""
-        t0 = time.perf_counter()
-        state, notice, scene = self.state, self.compile_notice, self.plan.scene
-        fluid_phase = f"the {scene.fluid.kind!r} fluid model"
-        steps_phase = f"{fluid_phase}'s steps"
-        solid_phase = f"the {scene.solid.kind!r} solid" if self.solid is not None else ""
+    def run(self, checkpoints: CheckpointSchedule | None = None) -> RunResult:
+        """Run to the stop criterion and return the result (observers closed, file written).
+
+        ``checkpoints``: write a checkpoint of the run when the schedule says so, between two
+        calls of the fluid model, and remove it once the run file is written
+        (docs/run-file.md, "Checkpoints"). A simulation loaded from a checkpoint
+        (:meth:`resume`) goes on from where it was.
+        """
+        self._clock = time.perf_counter()
+        if not self._started:
+            self._start()
+        state = self.state
+        while (reason := self._stop_reason()) is None:
+            self._iterate()
+            if checkpoints is not None and checkpoints.due(state):
+                checkpoints.write(self)
+        result = self._finish(reason)
+        if checkpoints is not None:
+            checkpoints.remove()
+        return result
+
+    def _phases(self) -> tuple[str, str, str]:
+        """The compile notice's names of the fluid's setup, its steps and the solid."""
+        scene = self.plan.scene
+        fluid = f"the {scene.fluid.kind!r} fluid model"
+        solid = f"the {scene.solid.kind!r} solid" if self.solid is not None else ""
+        return fluid, f"{fluid}'s steps", solid
+
+    def _start(self) -> None:
+        """Set the models up and attach the observers (once per run)."""
+        state, notice = self.state, self.compile_notice
+        fluid_phase, _, solid_phase = self._phases()
         self._log_start()
         with notice.phase(fluid_phase):
             self.fluid.setup(state)
@@ -184,30 +216,44 @@ class Simulation:
         )
         #: The solid's fields at each of the fluid's snapshots (deformable media).
         self._solid_snapshots: list[dict[str, np.ndarray]] = []
-        while (reason := self._stop_reason()) is None:
-            time_before = state.time
-            events = self._advance(steps_phase)
-            if events == 0 and state.time == time_before and not self.fluid.exhausted:
-                raise NumericalError(
-                    f"fluid model {type(self.fluid).__name__} made no progress (no pore drained, "
-                    f"time unchanged) after {state.n_drained} drained pores at step {state.step}"
-                )
-            if self.coupler is not None and self.solid is not None:
-                with notice.phase(solid_phase):
-                    exchanged = self.coupler.exchange(state, self.solid, events)
-                if exchanged:
-                    self.fluid.apertures_changed(state, self.coupler.changed_throats)
-            if self.solid is not None:
-                snaps = getattr(self.fluid, "snapshots", ())
-                while len(self._solid_snapshots) < len(snaps):
-                    self._solid_snapshots.append(self.solid.snapshot(state))
-            for obs in self.observers:
-                if obs.trigger.fires(state):
-                    obs.observe(state)
+        self._started = True
+
+    def _iterate(self) -> None:
+        """One call of the fluid model, the coupling that follows it and the observers."""
+        state, notice = self.state, self.compile_notice
+        _, steps_phase, solid_phase = self._phases()
+        time_before = state.time
+        events = self._advance(steps_phase)
+        if events == 0 and state.time == time_before and not self.fluid.exhausted:
+            raise NumericalError(
+                f"fluid model {type(self.fluid).__name__} made no progress (no pore drained, "
+                f"time unchanged) after {state.n_drained} drained pores at step {state.step}"
+            )
+        if self.coupler is not None and self.solid is not None:
+            with notice.phase(solid_phase):
+                exchanged = self.coupler.exchange(state, self.solid, events)
+            if exchanged:
+                self.fluid.apertures_changed(state, self.coupler.changed_throats)
+        if self.solid is not None:
+            snaps = getattr(self.fluid, "snapshots", ())
+            while len(self._solid_snapshots) < len(snaps):
+                self._solid_snapshots.append(self.solid.snapshot(state))
+        for obs in self.observers:
+            if obs.trigger.fires(state):
+                obs.observe(state)
+
+    def wall_time(self) -> float:
+        """Wall time of the run so far, in seconds: building it, and every stretch it ran
+        (in one process or across checkpoints)."""
+        return self._wall_before + time.perf_counter() - self._clock
+
+    def _finish(self, reason: str) -> RunResult:
+        """Finalize the fluid, gather the result, classify it and close the observers."""
+        state, notice, scene = self.state, self.compile_notice, self.plan.scene
         with notice.phase("the end of the run"):
             self.fluid.finalize(state)
         self._check_finite()
-        wall = time.perf_counter() - t0 + self.build_time
+        wall = self.wall_time()
         result = RunResult(self._data(reason, wall), state, self.lattice, self.plan)
         if self.classifier is not None:
             from porenet.analysis.classify import classify_run
@@ -220,6 +266,101 @@ class Simulation:
             obs.close(state, result)
         log.info("run finished: %s after %d pores in %.3f s", reason, state.n_drained, wall)
         return result
+
+    # -- checkpoints ----------------------------------------------------------------------
+    def __getstate__(self) -> dict[str, Any]:
+        """What a checkpoint pickles: everything but the registry, the compile notice and the
+        plan, which the loading process rebuilds (the plan from the scene)."""
+        out = dict(self.__dict__)
+        for name in ("registry", "compile_notice", "plan"):
+            out.pop(name, None)
+        plan = self.plan
+        out["_plan_inputs"] = (
+            plan.scene.model_dump(mode="json"),
+            None if plan.output is None else str(plan.output),
+            plan.progress,
+        )
+        out["_wall_before"] = self.wall_time()
+        return out
+
+    def __setstate__(self, values: dict[str, Any]) -> None:
+        from porenet.config.loading import load_scene
+        from porenet.hooks import get_registry
+
+        scene, output, progress = values.pop("_plan_inputs")
+        self.__dict__.update(values)
+        self.registry = get_registry()
+        config = load_scene(scene, registry=self.registry)
+        self.plan = make_plan(config, self.registry, output=output, progress=progress)
+        self.compile_notice = CompileNotice(enabled=self.report)
+        self._clock = time.perf_counter()  # this process's clock; _wall_before holds the past
+
+    def checkpoint_header(self) -> dict[str, Any]:
+        """The header fields of a checkpoint of this run (:mod:`porenet.io.checkpoint`)."""
+        from porenet.io import checkpoint as ck
+
+        state, plan = self.state, self.plan
+        models = (self.lattice, self.fluid, self.solid, self.coupler, self.classifier,
+                  *self.observers)  # fmt: skip
+        classes = tuple(type(m) for m in models if m is not None)
+        return {
+            "porenet_version": __version__,
+            "code_fingerprint": ck.code_fingerprint(),
+            "plugin_sources": ck.plugin_sources(classes),
+            "scene_digest": ck.scene_digest(plan.scene.model_dump(mode="json")),
+            "scene_name": plan.scene.name,
+            "output": None if plan.output is None else str(plan.output),
+            "n_drained": int(state.n_drained),
+            "step": int(state.step),
+            "model_time": float(state.time),
+            "wall_time_s": self.wall_time(),
+            "written": ck.now_text(),
+        }
+
+    @classmethod
+    def resume(cls, path: Any, *, output: Any = None, progress: bool = False) -> Simulation:
+        """The simulation saved in the checkpoint at ``path``, ready for :meth:`run` to go on
+        (``output``: write the run file there instead of where the run meant to;
+        ``progress``: show progress on stderr).
+
+        Raises
+        ------
+        porenet.io.checkpoint.CheckpointError
+            ``path`` is not a checkpoint, is damaged, or was written by other code.
+        """
+        from pathlib import Path
+
+        from porenet.builtin.observers.progress import Progress
+        from porenet.builtin.observers.runfile import RunFileWriter
+        from porenet.io.checkpoint import load_checkpoint
+
+        sim, _ = load_checkpoint(path)
+        if not isinstance(sim, cls):
+            from porenet.io.checkpoint import CheckpointError
+
+            raise CheckpointError(f"{path} holds no porenet simulation")
+        sim.report = progress
+        sim.compile_notice = CompileNotice(enabled=progress)
+        kept: list[Observer] = []
+        for obs in sim.observers:
+            if isinstance(obs, Progress):
+                continue  # shown or not as this process asks
+            if isinstance(obs, RunFileWriter) and output is not None:
+                obs = RunFileWriter(output)
+            kept.append(obs)
+        if progress:
+            bar = Progress()
+            bar.trigger.reset()
+            bar.attach(sim)
+            kept.insert(0, bar)
+        for obs in kept:
+            obs.resumed(sim)
+        sim.observers = kept
+        if output is not None:
+            import dataclasses
+
+            sim.plan = dataclasses.replace(sim.plan, output=Path(output))
+        return sim
 
     def _advance(self, phase: str) -> int:
         """One call of the fluid model, on the threads the governor picks, aiming at its

@@ -404,6 +404,12 @@ class Observer(ABC):  # noqa: B024 - every hook is optional
     def close(self, state: State, result: Any) -> None:  # noqa: B027 - optional hook
         """Called once at the end with the :class:`~porenet.result.RunResult`."""
 
+    def resumed(self, run: Any) -> None:  # noqa: B027 - optional hook
+        """Called instead of :meth:`attach` when a run goes on from a checkpoint, in a new
+        process (docs/run-file.md, "Checkpoints"): the observer was pickled with the run, so
+        it keeps what it gathered; reopen here what :meth:`observe` writes to. An observer
+        that holds an open file or stream drops it in ``__getstate__``."""
+
 
 @dataclass(frozen=True)
 class Classification:

@@ -88,6 +88,17 @@ class Progress(Observer):
         self._logged_fraction = 0  # tenths of the expected pores already logged
         self._wrote = False
 
+    def __getstate__(self) -> dict[str, Any]:
+        """A checkpoint keeps no stream: a resumed run shows progress as it is asked to."""
+        out = dict(self.__dict__)
+        out["stream"] = None
+        return out
+
+    def resumed(self, run: Any) -> None:
+        if self.stream is None:
+            self.stream = sys.stderr
+            self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
+
     @property
     def expected_drained(self) -> int | None:
         """The drained pores the ETA counts on (None: no ETA)."""
