@@ -134,7 +134,13 @@ class CompileNotice:
         w = self.watch
         count, seconds = w.count, w.seconds
 
-        def announce() -> None:
+        announced = False
+
+        def announce() -> None:  # once per phase, however many kernels it compiles
+            nonlocal announced
+            if announced:
+                return
+            announced = True
             where = f"; cached in {w.cache_dir}" if w.cache_dir else ""
             self._write(
                 f"compiling the kernels of {what} for this machine (once per machine{where}; "

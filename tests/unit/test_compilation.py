@@ -31,6 +31,19 @@ def test_a_phase_that_compiles_says_so_and_how_long():
     assert notice.compiled_seconds > 0
 
 
+def test_a_phase_that_compiles_several_kernels_says_so_once():
+    """Several outermost compilations in one phase (a model's setup calls several kernels):
+    one announcement and one total, not a line per kernel."""
+    stream = io.StringIO()
+    notice = CompileNotice(stream=stream)
+    with notice.phase("the 'test' fluid model"):
+        for value in (1, 2, 3):
+            assert _fresh_kernel()(value) == 2 * value
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 2, lines
+    assert lines[0].startswith("porenet: compiling") and lines[1].startswith("porenet: compiled")
+
+
 def test_a_phase_that_compiles_nothing_says_nothing():
     stream = io.StringIO()
     kernel = _fresh_kernel()
