@@ -34,6 +34,11 @@ CASES = {
     "rkc": scene(local_steps="off"),
     "rkc, local time steps": scene(capillary_number=1e-5, local_steps="on"),
     "implicit": scene(n=20, integrator="implicit", capillary_number=1e-5),
+    # the run stops at the event that drains the last outlet pore, not where a call ends
+    "explicit, to completion": {
+        **scene(n=12, integrator="explicit"),
+        "stop": {"at": "complete"},
+    },
     "rkc, pressure control": scene(
         control="pressure", capillary_number=None, injection_pressure=1.6e6, max_time=2e-6
     ),

@@ -270,6 +270,12 @@ class ViscousDrainage(FluidModel):
         budget = min(budget, _CHUNK - (before - self._events0) % _CHUNK)
         if self._pending_saturations:
             budget = min(budget, max(self._pending_saturations[0] - before, 0))
+        if stop.at == "complete":
+            # "complete" is reached at the event that drains the last undrained outlet pore
+            # (_all_trapped): a call may end there, never past it, so the run stops at that
+            # event wherever its calls end (it was checked only where calls ended, which
+            # depends on the machine's speed)
+            budget = min(budget, max(self._undrained_outlets(state), 1))
         t_end = self._t_end
         if self._pending_times:
             t_end = min(t_end, self._pending_times[0])
@@ -492,14 +498,15 @@ class ViscousDrainage(FluidModel):
         state.breakthrough = bool(self._cnt[5])
         state.step = int(self._cnt[1])
 
-    def _all_trapped(self, state: State) -> bool:
-        from porenet.kernels import ip
+    def _undrained_outlets(self, state: State) -> int:
+        """Outlet pores the invader has not drained yet."""
+        return int(np.count_nonzero(self._outlet & ~state.drained))
 
-        undrained = ~state.drained
-        if not undrained.any():
-            return True
-        enclosed = ip.enclosed_defender(self._csr[0], self._csr[1], state.drained, self._outlet)
-        return bool(np.all(enclosed[undrained]))
+    def _all_trapped(self, state: State) -> bool:
+        """Whether every undrained pore is trapped (its defending cluster holds no outlet
+        pore): the same as every outlet pore being drained, since an undrained outlet pore is
+        never trapped and a cluster without one always is."""
+        return self._undrained_outlets(state) == 0
 
     def _snapshot(self, state: State) -> None:
         pressure = self._p.copy()
