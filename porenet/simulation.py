@@ -25,7 +25,7 @@ from porenet.core.plan import Plan, make_plan
 from porenet.core.registry import Registry
 from porenet.core.state import State
 from porenet.core.units import Scales
-from porenet.kernels.bursts import burst_sizes
+from porenet.kernels.shared.bursts import burst_sizes
 from porenet.result import RunData, RunResult
 from porenet.threads import CALL_SECONDS, ThreadGovernor, thread_setting
 

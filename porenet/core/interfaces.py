@@ -189,7 +189,7 @@ class Lattice(ABC):
         The neighbours of pore ``p`` are ``neighbours[indptr[p]:indptr[p+1]]`` and the throats
         that lead to them ``throats[indptr[p]:indptr[p+1]]``, sorted by throat index.
         """
-        from porenet.kernels.graph import csr_adjacency
+        from porenet.kernels.shared.graph import csr_adjacency
 
         return csr_adjacency(self.throat_pores, self.n_pores)
 

@@ -8,8 +8,8 @@ Full invasion (``stop_at_outlet=False``, ``max_steps=n_pores``) of an n x n squa
 the centre pore, outlet = the outer ring, apertures uniform in [0.7a, 1.3a] (seed 0), with and
 without trapping. Every number is a median over ``--repeat`` runs in this process after a
 warm-up run (numba compilation or cache load excluded). The stages are the pieces that
-``porenet.kernels.ip.invasion_sequence`` runs (with the padded adjacency layout it picks for
-the square lattice), timed separately on the same inputs; "total" is ``invasion_sequence``
+``porenet.kernels.invasion.ip.invasion_sequence`` runs (with the padded adjacency layout it picks
+for the square lattice), timed separately on the same inputs; "total" is ``invasion_sequence``
 itself, timed in a separate round (so the stages need not add up to it exactly: the small rest
 is argument checks, allocations and copies).
 
@@ -35,8 +35,8 @@ from pathlib import Path
 import numpy as np
 
 from porenet.builtin.lattices.square import canonical_throats
-from porenet.kernels import ip
-from porenet.kernels.graph import csr_adjacency, max_degree, rank_pairs
+from porenet.kernels.invasion import ip
+from porenet.kernels.shared.graph import csr_adjacency, max_degree, rank_pairs
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -122,11 +122,11 @@ def load_baseline(rev: str):
     ).stdout.strip()
     root = Path(tempfile.gettempdir()) / f"porenet_bench_baseline_{sha[:12]}"
     pkg = root / "porenet_baseline"
-    if not (pkg / "kernels" / "ip.py").exists():
+    if not (pkg / "kernels").exists():
         (pkg / "kernels").mkdir(parents=True, exist_ok=True)
         (pkg / "__init__.py").write_text("")
         files = subprocess.run(
-            ["git", "-C", str(REPO), "ls-tree", "--name-only", sha, "porenet/kernels/"],
+            ["git", "-C", str(REPO), "ls-tree", "-r", "--name-only", sha, "porenet/kernels/"],
             check=True,
             capture_output=True,
             text=True,
@@ -141,9 +141,17 @@ def load_baseline(rev: str):
                 text=True,
             ).stdout
             text = text.replace("from porenet.kernels", "from porenet_baseline.kernels")
-            (pkg / "kernels" / Path(path).name).write_text(text)
+            target = pkg / Path(path).relative_to("porenet")
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_text(text)
     sys.path.insert(0, str(root))
-    return importlib.import_module("porenet_baseline.kernels.ip"), sha[:12]
+    # the kernels moved into subpackages by model (porenet/kernels/invasion/ip.py) in 2026-12
+    for name in ("porenet_baseline.kernels.invasion.ip", "porenet_baseline.kernels.ip"):
+        try:
+            return importlib.import_module(name), sha[:12]
+        except ModuleNotFoundError:
+            continue
+    raise ModuleNotFoundError(f"no invasion kernels in revision {rev}")
 
 
 def interleaved_medians(fns: dict, repeat: int, block: int = 1) -> dict:

@@ -4,9 +4,9 @@
     python tests/benchmarks/bench_threads.py --threads 1
 
 Times the serial and the parallel compilation of the row loops of the RKC stage sweep
-(``porenet.kernels.chebyshev._stage_rows_serial`` and ``_stage_rows_parallel``, what
+(``porenet.kernels.viscous.chebyshev._stage_rows_serial`` and ``_stage_rows_parallel``, what
 ``grid_stage`` picks between at ``PARALLEL_MIN`` pores) and of the explicit sweep
-(``porenet.kernels.diffusion._sweep_rows_*``, ``grid_sweep``'s) on square boxes of an n x n
+(``porenet.kernels.viscous.diffusion._sweep_rows_*``, ``grid_sweep``'s) on square boxes of an n x n
 grid: conductances uniform in [0.5, 2] (seed 0), no outlet, random volumes and pressures.
 Medians of ``--repeat`` single calls after a warm-up; the parallel one runs on ``--threads``
 threads. Both give the same bits (checked).
@@ -19,8 +19,8 @@ import time
 
 import numpy as np
 
-from porenet.kernels import chebyshev, diffusion
 from porenet.kernels._jit import PARALLEL_MIN, set_threads
+from porenet.kernels.viscous import chebyshev, diffusion
 
 
 def median_us(call, repeat: int) -> float:

@@ -5,11 +5,11 @@
 
 Runs the scene of ``bench_implicit.py`` (seed 1, lambda = 0.3, ``integrator = "rkc"``) until
 ``--drained`` pores have drained (the run stops just after a landing), then, from that state,
-computes one RKC step of each length in ``--steps`` (:func:`porenet.kernels.rkc_step.
-imex_stages`, the step's stage count by :func:`porenet.kernels.chebyshev.stage_count`) and the
-RKC local error estimate of every pore, ``|-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (as
-:func:`porenet.kernels.rkc_step.step_error`, without the menisci's implicit part). Prints, for
-each step, how many pores exceed the tolerance (``fluid.tolerance`` times the entry-pressure
+computes one RKC step of each length in ``--steps`` (:func:`porenet.kernels.viscous.rkc_step.
+imex_stages`, the step's stage count by :func:`porenet.kernels.viscous.chebyshev.stage_count`) and
+the RKC local error estimate of every pore, ``|-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (as
+:func:`porenet.kernels.viscous.rkc_step.step_error`, without the menisci's implicit part). Prints,
+for each step, how many pores exceed the tolerance (``fluid.tolerance`` times the entry-pressure
 spread) and 5 % of it, and their largest lattice (Manhattan) distance from the pore that just
 drained: the radius a window around the newest landing would need for the rest of the lattice
 to take that step within the tolerance. Nothing is written back into the run.
@@ -27,11 +27,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_implicit import scene
 
 from porenet.core.errors import ConfigError
-from porenet.kernels.chebyshev import stage_count, sweep
-from porenet.kernels.menisci import meniscus_fluxes
-from porenet.kernels.rkc import _list_candidates
-from porenet.kernels.rkc_step import imex_stages
-from porenet.kernels.window import no_window
+from porenet.kernels.viscous.chebyshev import stage_count, sweep
+from porenet.kernels.viscous.menisci import meniscus_fluxes
+from porenet.kernels.viscous.rkc import _list_candidates
+from porenet.kernels.viscous.rkc_step import imex_stages
+from porenet.kernels.viscous.window import no_window
 from porenet.simulation import Simulation
 
 ZERO = (0.0, 0.0, 0.0, 0.0)

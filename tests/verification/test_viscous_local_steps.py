@@ -1,5 +1,5 @@
 """Local time steps of the RKC integrator (``local_steps``): fine steps in a window around the
-moving menisci, one long coarse step elsewhere (:mod:`porenet.kernels.multirate`).
+moving menisci, one long coarse step elsewhere (:mod:`porenet.kernels.viscous.multirate`).
 
 The scheme must keep every property of the single-rate integrator it speeds up: volumes
 balance to round-off, menisci land exactly, the pattern and the times are the single-rate

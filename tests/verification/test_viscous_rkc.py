@@ -3,8 +3,8 @@ landings, agreement with a tight explicit run, the invasion-percolation limit, a
 grows far slower than 1/Ca, hard corners, generic lattices, determinism.
 
 IMEX Runge-Kutta-Chebyshev steps with the explicit integrator near landings
-(:mod:`porenet.kernels.rkc`). Scenes are small (n <= 30) so that the file runs in well under a
-minute; the helpers mirror ``test_viscous_implicit.py``.
+(:mod:`porenet.kernels.viscous.rkc`). Scenes are small (n <= 30) so that the file runs in well
+under a minute; the helpers mirror ``test_viscous_implicit.py``.
 """
 
 from __future__ import annotations

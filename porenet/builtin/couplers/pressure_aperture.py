@@ -45,7 +45,7 @@ class PressureApertureCoupler(Coupler):
         return self.interval if self.schedule == "interval" else 1
 
     def exchange(self, state: State, solid: SolidModel, events: int) -> bool:
-        from porenet.kernels.mechanics import fill_pore_pressures
+        from porenet.kernels.mechanics.springs import fill_pore_pressures
 
         if self._pressure is None:
             self._pressure = np.zeros(state.n_pores)
@@ -59,7 +59,7 @@ class PressureApertureCoupler(Coupler):
         # never lag the fluid's by more than the tolerance (as a deformation).
         half = 0.5 * self.tolerance if self.schedule == "adaptive" else 0.0
         if half > 0:
-            from porenet.kernels.mechanics import largest_pressure_change
+            from porenet.kernels.mechanics.springs import largest_pressure_change
 
             change = largest_pressure_change(
                 defender, state.drained, state.invading_pressure, self._last

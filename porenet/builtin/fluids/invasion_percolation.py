@@ -15,8 +15,8 @@ class InvasionPercolation(FluidModel):
     """Classical invasion percolation with optional trapping.
 
     Apertures are quenched in a rigid medium, so the whole invasion is computed once at
-    :meth:`setup` by the O(M log M) kernels of :mod:`porenet.kernels.ip`; :meth:`advance` then
-    replays it in chunks so observers see the states they ask for. It reads
+    :meth:`setup` by the O(M log M) kernels of :mod:`porenet.kernels.invasion.ip`; :meth:`advance`
+    then replays it in chunks so observers see the states they ask for. It reads
     ``state.apertures`` once and writes ``drained``, ``trapped``, ``invading_pressure``,
     ``n_drained``, ``breakthrough`` and ``record`` (pressures in units of gamma/a).
     It defines no pressure field: ``state.pressure`` stays None.
@@ -26,7 +26,7 @@ class InvasionPercolation(FluidModel):
     config: InvasionPercolationConfig
 
     def setup(self, state: State) -> None:
-        from porenet.kernels import ip
+        from porenet.kernels.invasion import ip
 
         lat = self.lattice
         at = self.context.injection.at
@@ -55,10 +55,10 @@ class InvasionPercolation(FluidModel):
 
     def _setup_online(self, state: State) -> None:
         """Deformable media: the invasion is computed one pore at a time
-        (:mod:`porenet.kernels.ip_online`), re-reading the frontier's entry pressures after
+        (:mod:`porenet.kernels.invasion.online`), re-reading the frontier's entry pressures after
         every mechanical update, with trapping detected as pores drain."""
-        from porenet.kernels import ip_online
-        from porenet.kernels.graph import max_degree
+        from porenet.kernels.invasion import online as ip_online
+        from porenet.kernels.shared.graph import max_degree
 
         lat = self.lattice
         indptr, neighbours, throats = (np.ascontiguousarray(a, np.int64) for a in lat.adjacency)
@@ -80,7 +80,7 @@ class InvasionPercolation(FluidModel):
     def apertures_changed(self, state: State, throats: np.ndarray | None = None) -> None:
         """Re-read the entry pressures of the frontier throats (the only ones the next step
         compares) from the deformed apertures."""
-        from porenet.kernels.ip_online import online_frontier
+        from porenet.kernels.invasion.online import online_frontier
 
         if self._online is None:  # pragma: no cover - the Simulation plans deformable runs
             raise NotImplementedError("invasion percolation was set up for a rigid medium")
@@ -88,7 +88,7 @@ class InvasionPercolation(FluidModel):
         self._entry[front] = 2.0 / state.apertures[front]
 
     def _advance_online(self, state: State, max_events: int) -> int:
-        from porenet.kernels.ip_online import online_step
+        from porenet.kernels.invasion.online import online_step
 
         assert self._online is not None
         stop = self.context.stop
@@ -141,7 +141,7 @@ class InvasionPercolation(FluidModel):
         return self._cursor >= len(self._order)
 
     def finalize(self, state: State) -> None:
-        from porenet.kernels import ip
+        from porenet.kernels.invasion import ip
 
         state.trapped[:] = ip.enclosed_defender(
             self._indptr, self._neighbours, state.drained, self._outlet

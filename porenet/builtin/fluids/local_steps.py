@@ -1,7 +1,7 @@
 """Macro steps of local time stepping for the viscous model's RKC integrator.
 
-The scheme and its kernels are in :mod:`porenet.kernels.multirate` and
-:mod:`porenet.kernels.window`; this class decides, before each macro step, its length ``H``
+The scheme and its kernels are in :mod:`porenet.kernels.viscous.multirate` and
+:mod:`porenet.kernels.viscous.window`; this class decides, before each macro step, its length ``H``
 and its window, and books the far field after it. Decisions (measured in
 docs/performance.md and docs/accuracy.md):
 
@@ -36,11 +36,11 @@ from typing import Any
 import numpy as np
 
 from porenet.core.errors import NumericalError
-from porenet.kernels import multirate as mk
-from porenet.kernels.chebyshev import MAX_STAGES, longest_step, stage_count
-from porenet.kernels.diffusion import grow_where_reached
-from porenet.kernels.window import CUT, CUT_FAR_MENISCUS, FINE, RING_COARSE, window_arrays
-from porenet.kernels.window import box_area as _area
+from porenet.kernels.viscous import multirate as mk
+from porenet.kernels.viscous.chebyshev import MAX_STAGES, longest_step, stage_count
+from porenet.kernels.viscous.diffusion import grow_where_reached
+from porenet.kernels.viscous.window import CUT, CUT_FAR_MENISCUS, FINE, RING_COARSE, window_arrays
+from porenet.kernels.viscous.window import box_area as _area
 
 #: Candidate windows of a coarse step: their reach beyond the hot pores, as multiples of the
 #: reach the last coarse steps needed.
@@ -89,7 +89,7 @@ class LocalSteps:
         n_throats = len(fluid._pe)
         self.win = window_arrays(FINE, 4 * n * (len(LEVELS) + 1), n_pores, n_throats)
         #: The window's own front (its menisci) and their slots, and counters, for the fine
-        #: integration (:func:`porenet.kernels.multirate.split_front`).
+        #: integration (:func:`porenet.kernels.viscous.multirate.split_front`).
         self._wfront = np.zeros(n_throats, dtype=np.int64)
         self._wfpos = np.full(n_throats, -1, dtype=np.int64)
         self._p1 = np.zeros(n_pores)
@@ -111,7 +111,7 @@ class LocalSteps:
         self.last: dict[str, Any] = {}  # the last macro step, for diagnostics
 
     def _field(self, box: np.ndarray) -> tuple:
-        """The sweep tuple of :func:`porenet.kernels.chebyshev.sweep` over ``box``."""
+        """The sweep tuple of :func:`porenet.kernels.viscous.chebyshev.sweep` over ``box``."""
         f = self.fluid
         return (f._grid_n, box, int(f._cnt[3]), f._act, f._apos, *f._csr, f._g_eff, f._g_out,
                 self._inv_vol, self._scratch, box)  # fmt: skip
@@ -187,7 +187,7 @@ class LocalSteps:
     # -- one call ---------------------------------------------------------------------------
     def advance(self, state: Any, budget: int, t_end: float, step_chunk: int) -> int:
         """Drain up to ``budget`` pores (or take about ``step_chunk`` fine steps) in macro
-        steps; returns a :data:`porenet.kernels.viscous.STATUS` code."""
+        steps; returns a :data:`porenet.kernels.viscous.explicit.STATUS` code."""
         f = self.fluid
         events0, steps0 = int(f._cnt[0]), int(f._cnt[1])
         while True:

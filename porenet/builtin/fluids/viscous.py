@@ -13,7 +13,7 @@ from porenet.core.errors import NumericalError
 from porenet.core.interfaces import FluidModel
 from porenet.core.state import State
 from porenet.kernels._jit import PARALLEL_MIN, threads
-from porenet.kernels.window import box_area, no_window
+from porenet.kernels.viscous.window import box_area, no_window
 from porenet.threads import CallPace
 
 #: Length of a new meniscus: the distance between two pore centres, 2a.
@@ -30,8 +30,8 @@ _CHUNK = 256
 _STEP_CHUNK = 20_000
 
 #: The step-controlled integrators' counters in ``/summary``: attribute -> slot of the
-#: kernel module of the same name's ``CTRL`` (:mod:`porenet.kernels.implicit`,
-#: :mod:`porenet.kernels.rkc`).
+#: kernel module of the same name's ``CTRL`` (:mod:`porenet.kernels.viscous.implicit`,
+#: :mod:`porenet.kernels.viscous.rkc`).
 _SUMMARY_COUNTERS = {
     "implicit": {
         "linear_solves": "solves",
@@ -63,7 +63,7 @@ class ViscousDrainage(FluidModel):
 
     # -- setup --------------------------------------------------------------------------
     def setup(self, state: State) -> None:
-        from porenet.kernels import viscous as vk
+        from porenet.kernels.viscous import explicit as vk
 
         lat, cfg, sc = self.lattice, self.config, self.context.scales
         at = self.context.injection.at
@@ -166,7 +166,7 @@ class ViscousDrainage(FluidModel):
 
     def _injection(self) -> None:
         """Control, rate (a^2 gamma / mu), reservoir compliance and ramp (scaled)."""
-        from porenet.kernels import menisci as mk
+        from porenet.kernels.viscous import menisci as mk
 
         cfg, sc = self.config, self.context.scales
         if sc.time is None:  # pragma: no cover - the config always has a viscosity
@@ -185,7 +185,7 @@ class ViscousDrainage(FluidModel):
 
     def _allocate(self, state: State) -> None:
         """The model's state, scratch and record arrays; the State shares the first two."""
-        from porenet.kernels import viscous as vk
+        from porenet.kernels.viscous import explicit as vk
 
         n, m = self.lattice.n_pores, self.lattice.n_throats
         self._p = np.zeros(n)
@@ -211,8 +211,8 @@ class ViscousDrainage(FluidModel):
         self._work = (np.full(n, -1, dtype=np.int64), np.zeros(m, dtype=bool), np.zeros(n))
         self._local: Any = None  # LocalSteps, built at the first RKC call where they apply
         if self.integrator == "rkc":
-            from porenet.kernels import rkc
-            from porenet.kernels.chebyshev import spectral_radius
+            from porenet.kernels.viscous import rkc
+            from porenet.kernels.viscous.chebyshev import spectral_radius
 
             self._ybuf = np.zeros((3, n))
             self._f0, self._fnew, self._zero = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -220,7 +220,7 @@ class ViscousDrainage(FluidModel):
             #: Spectral radius of the pore-to-pore operator (scaled), which sets the stages.
             self.spectral_radius = spectral_radius(self._tp, self._g_eff, self._g_out, self._vol)
         if self.integrator == "implicit":
-            from porenet.kernels import implicit as ik
+            from porenet.kernels.viscous import implicit as ik
 
             self._mstate = np.zeros(m, dtype=np.int8)
             self._mflux = np.zeros(m)
@@ -262,7 +262,7 @@ class ViscousDrainage(FluidModel):
 
     # -- loop -----------------------------------------------------------------------------
     def advance(self, state: State, max_events: int) -> int:
-        from porenet.kernels import viscous as vk
+        from porenet.kernels.viscous import explicit as vk
 
         cfg, stop = self.config, self.context.stop
         before = int(self._cnt[0])
@@ -309,7 +309,7 @@ class ViscousDrainage(FluidModel):
                 + (f" (max_steps = {cfg.max_steps})" if status == 3 else "")
             )
         if status == 7:
-            from porenet.kernels import implicit as ik
+            from porenet.kernels.viscous import implicit as ik
 
             raise NumericalError(
                 f"viscous model (implicit integrator): {ik.STATUS[7]} at t = {state.time:g} "
@@ -333,7 +333,7 @@ class ViscousDrainage(FluidModel):
         return n_now - before
 
     def _implicit_advance(self, state: State, budget: int, t_end: float) -> int:
-        from porenet.kernels import implicit as ik
+        from porenet.kernels.viscous import implicit as ik
 
         cfg, stop = self.config, self.context.stop
         return ik.implicit_advance(
@@ -385,7 +385,7 @@ class ViscousDrainage(FluidModel):
         window ``wbox`` with the window's own front ``(front, fpos, cnt)`` (a copy of the
         counters whose slot 2 counts it). At most ``step_budget`` steps (default
         :meth:`_step_chunk`)."""
-        from porenet.kernels import rkc
+        from porenet.kernels.viscous import rkc
 
         cfg, stop = self.config, self.context.stop
         box = self._box if wbox is None else wbox
@@ -409,12 +409,12 @@ class ViscousDrainage(FluidModel):
         """The pressures, the active box or the conductances changed outside the RKC kernel
         (local time steps, a deformed solid): its next call recomputes ``F_E(p)``."""
         if self.integrator == "rkc":
-            from porenet.kernels import rkc
+            from porenet.kernels.viscous import rkc
 
             self._ctrl[rkc.CTRL["f0_valid"]] = 0.0
 
     def _no_menisci(self) -> tuple[tuple, tuple]:
-        """The menisci and pump tuples of :func:`porenet.kernels.rkc_step.imex_stages` for a
+        """The menisci and pump tuples of :func:`porenet.kernels.viscous.rkc_step.imex_stages` for a
         step with no meniscus listed (the far field of local time steps)."""
         m, n = len(self._pe), len(self._p)
         menisci = (self._on_t, self._on_p, np.empty(m), np.full(n, -1, dtype=np.int64),
@@ -465,7 +465,7 @@ class ViscousDrainage(FluidModel):
         region cost nothing. The step never grows back, and never exceeds the one taken at
         setup, so an undeformed medium keeps its time step. The safety factor and the
         accuracy limits keep their values; pore volumes do not change."""
-        from porenet.kernels.diffusion import refresh_throats
+        from porenet.kernels.viscous.diffusion import refresh_throats
 
         if throats is None:
             throats = np.arange(len(self._area), dtype=np.int64)
@@ -531,7 +531,7 @@ class ViscousDrainage(FluidModel):
         return {-1: None, 2: "max_time", 5: "complete", 6: "stationary"}[self._status]
 
     def finalize(self, state: State) -> None:
-        from porenet.kernels import ip
+        from porenet.kernels.invasion import ip
 
         self._p[state.drained] = state.invading_pressure
         state.trapped[:] = ip.enclosed_defender(
@@ -540,8 +540,9 @@ class ViscousDrainage(FluidModel):
 
     # -- outputs ----------------------------------------------------------------------------
     def volumes(self) -> dict[str, float]:
-        """Running volume totals (units of a^3), see :data:`porenet.kernels.viscous.ACC`."""
-        from porenet.kernels import viscous as vk
+        """Running volume totals (units of a^3), see
+        :data:`porenet.kernels.viscous.explicit.ACC`."""
+        from porenet.kernels.viscous import explicit as vk
 
         return {name: float(self._acc[i]) for name, i in vk.ACC.items()}
 
@@ -564,7 +565,7 @@ class ViscousDrainage(FluidModel):
 
     def timeseries(self) -> dict[str, np.ndarray]:
         """Rows at each drainage event (inlets included), scaled units."""
-        from porenet.kernels import viscous as vk
+        from porenet.kernels.viscous import explicit as vk
 
         rows = self._series[: int(self._cnt[0])]
         series = {name: rows[:, c].copy() for c, name in enumerate(vk.SERIES)}
@@ -581,7 +582,7 @@ class ViscousDrainage(FluidModel):
         """Largest relative volume imbalance over the run: the two balances of
         :meth:`balance_errors` now, and their sum (injected = stored + outflow + released) at
         every drainage event."""
-        from porenet.kernels import viscous as vk
+        from porenet.kernels.viscous import explicit as vk
 
         rows = self._series[: int(self._cnt[0])]
         col = {name: c for c, name in enumerate(vk.SERIES)}
@@ -613,7 +614,7 @@ class ViscousDrainage(FluidModel):
             import importlib
 
             # the kernel module of each step-controlled integrator has its name
-            slots = importlib.import_module(f"porenet.kernels.{self.integrator}").CTRL
+            slots = importlib.import_module(f"porenet.kernels.viscous.{self.integrator}").CTRL
             out["time_step_s"] = state.time / max(steps, 1) * (sc.time or 0.0)
             for key, slot in _SUMMARY_COUNTERS[self.integrator].items():
                 out[key] = int(self._ctrl[slots[slot]])

@@ -35,7 +35,7 @@ def canonical_throats(n: int) -> np.ndarray:
 def _topology(n: int) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """Read-only throat pairs and CSR adjacency of an n x n lattice, shared by all lattices of
     that size in a process (sweeps and replicates rebuild only the apertures)."""
-    from porenet.kernels.graph import csr_adjacency
+    from porenet.kernels.shared.graph import csr_adjacency
 
     throats = canonical_throats(n)
     adjacency = csr_adjacency(throats, n * n)

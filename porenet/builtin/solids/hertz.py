@@ -33,7 +33,7 @@ class HertzSolid(SolidModel):
     Writes ``state.spring_compression`` (h / a), ``state.spring_force`` (gamma a),
     ``state.displacement`` ((n_particles, 2), a) and, through :meth:`update`, returns the
     aperture changes (a) that the Coupler applies. The update is
-    :mod:`porenet.kernels.mechanics`: force balance on every free particle, linearised about
+    :mod:`porenet.kernels.mechanics.springs`: force balance on every free particle, linearised about
     the current state, with contacts that open at ``h <= 0`` (and close again at ``h > 0``
     under ``recontact = 'restore'``) iterated within the update.
     """
@@ -41,7 +41,7 @@ class HertzSolid(SolidModel):
     config: HertzConfig
 
     def __init__(self, config: HertzConfig, lattice: Lattice, context: RunContext) -> None:
-        from porenet.kernels import mechanics as mk
+        from porenet.kernels.mechanics import springs as mk
 
         super().__init__(config, lattice, context)
         self.modulus = scaled_modulus(config, lattice, context)
@@ -68,7 +68,7 @@ class HertzSolid(SolidModel):
         )
         self._chains = None
         if config.solver in ("auto", "chains"):
-            from porenet.kernels import chains as ck
+            from porenet.kernels.mechanics import chains as ck
 
             self._chains = ck.find_chains(springs, self._axis, fixed)
             if self._chains is None and config.solver == "chains":
@@ -102,8 +102,8 @@ class HertzSolid(SolidModel):
         return "chains" if self._chains is not None else "sparse-direct"
 
     def setup(self, state: State) -> None:
-        from porenet.kernels import chains as ck
-        from porenet.kernels.mechanics import hertz_force
+        from porenet.kernels.mechanics import chains as ck
+        from porenet.kernels.mechanics.springs import hertz_force
 
         m = self._springs.shape[0]
         state.spring_compression = np.full(m, self.h0)
@@ -181,7 +181,7 @@ class HertzSolid(SolidModel):
         self, state: State, pore_pressure: np.ndarray, tolerance: float
     ) -> np.ndarray | None:
         """Refresh the loads and solve the lines they changed; None if no pore was refreshed."""
-        from porenet.kernels import chains as ck
+        from porenet.kernels.mechanics import chains as ck
 
         cfg = self.config
         assert self._chains is not None and state.displacement is not None
@@ -208,7 +208,7 @@ class HertzSolid(SolidModel):
         return self._changed[: int(stats[ck.STATS["changed"]])]
 
     def _update_sparse(self, state: State, pore_pressure: np.ndarray) -> None:
-        from porenet.kernels import mechanics as mk
+        from porenet.kernels.mechanics import springs as mk
 
         cfg = self.config
         h, force = state.spring_compression, state.spring_force
@@ -238,7 +238,7 @@ class HertzSolid(SolidModel):
     @property
     def removed(self) -> np.ndarray:
         """(M,) bool: springs currently open (removed: no contact)."""
-        from porenet.kernels.mechanics import OPEN
+        from porenet.kernels.mechanics.springs import OPEN
 
         return self._mode == OPEN
 

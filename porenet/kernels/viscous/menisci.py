@@ -1,6 +1,6 @@
 """Menisci and injection over one step of the viscous model (docs/model.md section 4).
 
-Pure numba helpers on arrays, in scaled units (see :mod:`porenet.kernels.viscous`).
+Pure numba helpers on arrays, in scaled units (see :mod:`porenet.kernels.viscous.explicit`).
 
 Over a step of length ``dt`` the menisci listed as candidates, the pores they enter and the
 injection reservoir are implicit (backward Euler); the other fluxes of those pores are
@@ -30,7 +30,7 @@ The helpers of one step take the candidate menisci and the pump as two tuples:
 ``menisci = (on_t, on_p, c_on, head, nxt, p, flux, vol, g_num, ell, area)`` (the listed
 menisci's throats, pores and thresholds, the per-pore links, then the arrays they read) and
 ``pump = (control, pinv, q_rate, capacity, ramp_rate)`` (see :func:`explicit_advance` in
-:mod:`porenet.kernels.viscous`).
+:mod:`porenet.kernels.viscous.explicit`).
 """
 
 from __future__ import annotations

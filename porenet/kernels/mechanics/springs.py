@@ -64,8 +64,8 @@ Solvers
 When every spring lies along x or y (the square lattice), x and y decouple and every line of
 springs between two fixed particles is an independent tridiagonal system (a *chain*), solved
 by the Thomas algorithm in O(N) with the contact iteration done per chain
-(:mod:`porenet.kernels.chains`). Otherwise :func:`solve_sparse` assembles the 2-D stiffness
-matrix (scipy.sparse) and solves it with a sparse direct solver.
+(:mod:`porenet.kernels.mechanics.chains`). Otherwise :func:`solve_sparse` assembles the 2-D
+stiffness matrix (scipy.sparse) and solves it with a sparse direct solver.
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Forward Euler for the Darcy fluxes between undrained pores and to the outlet, over the active
 pores only: a list of pores on generic lattices (CSR adjacency), a growing box of rows and
 columns on canonical square grids, swept as a stencil. Pure numba helpers on arrays, in scaled
-units (see :mod:`porenet.kernels.viscous`).
+units (see :mod:`porenet.kernels.viscous.explicit`).
 """
 
 from __future__ import annotations
@@ -256,9 +256,9 @@ def grid_sweep(
     pore of each row, which lack a neighbour inside the box, are done one by one.
 
     ``nbox`` holds ``box`` and bounds the neighbours that count (``box`` itself but in a
-    window of local time steps, :mod:`porenet.kernels.multirate`, whose ring of pores outside
-    ``box`` is read, not written). Boxes of :data:`porenet.kernels._jit.PARALLEL_MIN` pores or
-    more are swept by several threads; the sums are taken per row, then over the rows in
+    window of local time steps, :mod:`porenet.kernels.viscous.multirate`, whose ring of pores
+    outside ``box`` is read, not written). Boxes of :data:`porenet.kernels._jit.PARALLEL_MIN` pores
+    or more are swept by several threads; the sums are taken per row, then over the rows in
     order, so the result does not depend on their number."""
     rows = box[1] - box[0]
     partial = np.empty((2, max(rows, 0)))

@@ -1,4 +1,4 @@
-"""Runge-Kutta-Chebyshev numerics (:mod:`porenet.kernels.chebyshev`): stability of the IMEX
+"""Runge-Kutta-Chebyshev numerics (:mod:`porenet.kernels.viscous.chebyshev`): stability of the IMEX
 scheme for the stage counts used, its order, the two sweeps, the spectral radius."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from porenet.kernels.chebyshev import (
+from porenet.kernels.viscous.chebyshev import (
     coefficients,
     csr_stage,
     grid_stage,
@@ -20,7 +20,7 @@ from porenet.kernels.chebyshev import (
 
 def amplification(z_e: float, z_i: float, m: int) -> float:
     """One IMEX RKC step of ``y' = (z_e + z_i) y`` with ``h = 1`` (z_e explicit, z_i implicit),
-    written from the stage formulas of :mod:`porenet.kernels.rkc`."""
+    written from the stage formulas of :mod:`porenet.kernels.viscous.rkc`."""
     mus1, coef = coefficients(m)
     y0 = 1.0
     fe0, fi0 = z_e * y0, z_i * y0

@@ -3,8 +3,8 @@
 Level 0 holds one bit per key; each bit of level ``l+1`` says whether the 64-bit word below it
 is non-empty. Insert, delete and find-min touch one word per level (4 levels for M up to
 16.7 million), with no comparisons of keys, so it beats a binary heap for invasion
-percolation, whose keys are throat ranks (see :mod:`porenet.kernels.ip`). Unlike a heap it can
-delete any key in O(levels), so the queue holds exactly the current candidates (in the
+percolation, whose keys are throat ranks (see :mod:`porenet.kernels.invasion.ip`). Unlike a heap it
+can delete any key in O(levels), so the queue holds exactly the current candidates (in the
 invasion: one rank per pore next to the invader).
 
 All functions are numba kernels operating on the ``(words, offsets)`` arrays made by

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from porenet.builtin.lattices.square import canonical_throats
-from porenet.kernels import ip
-from porenet.kernels import ip_online as io
-from porenet.kernels.graph import csr_adjacency, max_degree
+from porenet.kernels.invasion import ip
+from porenet.kernels.invasion import online as io
+from porenet.kernels.shared.graph import csr_adjacency, max_degree
 
 
 def square(n: int, rng: np.random.Generator, ties: bool = False):

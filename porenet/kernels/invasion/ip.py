@@ -6,12 +6,12 @@ entry pressure of a throat of aperture ``r`` is ``2 / r``.
 The whole invasion costs O(M) for M throats with smooth entry-pressure distributions:
 
 * :func:`throat_ranks` orders the throats by entry pressure, ties by throat index, with an
-  O(M) bucket sort (:mod:`porenet.kernels.sorting`). From then on throats are addressed by
+  O(M) bucket sort (:mod:`porenet.kernels.shared.sorting`). From then on throats are addressed by
   their rank, so comparing two throats is comparing two integers.
 * The invasion *without* trapping (Wilkinson & Willemsen 1983) keeps, for every undrained pore
   next to the invader, the smallest rank of the throats joining it to the invader, in a
-  priority queue of ranks (:mod:`porenet.kernels.bitqueue`); each step drains the pore with the
-  smallest key, i.e. the pore behind the frontier throat of smallest entry pressure (Prim's
+  priority queue of ranks (:mod:`porenet.kernels.invasion.bitqueue`); each step drains the pore
+  with the smallest key, i.e. the pore behind the frontier throat of smallest entry pressure (Prim's
   algorithm). Keying pores rather than throats halves the queue operations: a throat whose two
   pores drain needs no removal.
 * :func:`trapped_steps` then finds which of those steps would have entered a defending cluster
@@ -24,7 +24,7 @@ The whole invasion costs O(M) for M throats with smooth entry-pressure distribut
 Ties in entry pressure are broken by the lower throat index (canonical order).
 
 The invasion loop is bound by memory latency, not arithmetic. It reads the adjacency as
-interleaved (neighbour, rank) pairs (:func:`porenet.kernels.graph.rank_pairs`, padded to one
+interleaved (neighbour, rank) pairs (:func:`porenet.kernels.shared.graph.rank_pairs`, padded to one
 fixed-width row per pore on lattices, so a row is found without reading ``indptr``), and it
 prefetches the rows of the two candidates for the next step (the pore behind the next-smallest
 queued rank, and the pores whose key was just lowered) while it works on the current one.
@@ -35,15 +35,15 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit, prefetch
-from porenet.kernels.bitqueue import (
+from porenet.kernels.invasion.bitqueue import (
     queue_insert,
     queue_min,
     queue_new,
     queue_pop_min,
     queue_remove,
 )
-from porenet.kernels.graph import max_degree, rank_pairs
-from porenet.kernels.sorting import rank_order
+from porenet.kernels.shared.graph import max_degree, rank_pairs
+from porenet.kernels.shared.sorting import rank_order
 
 #: Largest padding overhead (padded slots / CSR entries) for which the padded layout is used.
 _MAX_PADDING = 1.25
@@ -152,7 +152,8 @@ def invade_pairs(
     width : int
         Layout of ``pairs``: 0 for CSR order, else the padded row width.
     pairs : ndarray of int, shape (2 * 2M,) or (2 * width * N,)
-        Interleaved (neighbour, throat rank) pairs (:func:`porenet.kernels.graph.rank_pairs`).
+        Interleaved (neighbour, throat rank) pairs
+        (:func:`porenet.kernels.shared.graph.rank_pairs`).
     m : int
         Number of throats (ranks are ``0 .. m-1``).
     inlets : ndarray of int64

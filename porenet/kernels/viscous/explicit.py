@@ -16,7 +16,7 @@ pores and to the outlet, and point-implicit (backward Euler) for the meniscus fl
 they enter and the injection reservoir, which are the stiff terms (a meniscus conductance
 ``A k / l`` grows without bound as ``l -> 0``; a small C makes the reservoir stiff). The
 threshold law is used in its convex closure, so a meniscus at its threshold slides
-(:mod:`porenet.kernels.menisci`). The pore-to-pore part is stable for
+(:mod:`porenet.kernels.viscous.menisci`). The pore-to-pore part is stable for
 ``dt <= min_i V_i / (sum_j g_ij + g_out,i)``; the implicit part is unconditionally stable, so the
 meniscus and reservoir terms never limit the step. Every flux is computed once and used for both
 sides, so the volume balances close to round-off (see :data:`ACC`). A step that would take a
@@ -29,8 +29,8 @@ neglected (they are below ``g * floor``), which keeps the cost proportional to t
 pressure has reached, not to the lattice, and keeps the balances exact.
 
 This module holds the step loop, the drainage events and the bookkeeping; the menisci and the
-pump over one step are in :mod:`porenet.kernels.menisci`, the pressure diffusion over the
-active pores in :mod:`porenet.kernels.diffusion`.
+pump over one step are in :mod:`porenet.kernels.viscous.menisci`, the pressure diffusion over the
+active pores in :mod:`porenet.kernels.viscous.diffusion`.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit
-from porenet.kernels.diffusion import (
+from porenet.kernels.viscous.diffusion import (
     activate,
     copy_rows,
     csr_fluxes,
@@ -51,7 +51,7 @@ from porenet.kernels.diffusion import (
     set_remove,
     spread,
 )
-from porenet.kernels.menisci import (
+from porenet.kernels.viscous.menisci import (
     CONTROL_PRESSURE,
     CONTROL_RATE,
     invader_pressure,
@@ -60,7 +60,7 @@ from porenet.kernels.menisci import (
     step_change,
     undrained_pore,
 )
-from porenet.kernels.window import (
+from porenet.kernels.viscous.window import (
     CUT_FAR_MENISCUS,
     CUT_NEAR_EDGE,
     FINE,
@@ -307,7 +307,7 @@ def explicit_advance(
     dt_max : float
         Largest step (the stability limit times the safety factor).
     control : int
-        ``CONTROL_RATE``, ``_PRESSURE`` or ``_RAMP`` of :mod:`porenet.kernels.menisci`.
+        ``CONTROL_RATE``, ``_PRESSURE`` or ``_RAMP`` of :mod:`porenet.kernels.viscous.menisci`.
     q_rate, capacity, capacity_per_drained, ramp_rate : float
         Injection rate; reservoir compliance ``C = capacity + capacity_per_drained * V_drained``;
         ``dp_inv/dt`` of a ramp.
@@ -329,12 +329,12 @@ def explicit_advance(
         Return (status 0) after this many steps in this call, so the caller can report
         progress and run observers during long stretches without drainage.
     nbox, win : ndarray of int (4,), tuple
-        ``box`` itself and a window that is off (:func:`porenet.kernels.window.no_window`),
+        ``box`` itself and a window that is off (:func:`porenet.kernels.viscous.window.no_window`),
         except in the fine integration of a macro step of local time steps
-        (:mod:`porenet.kernels.multirate`): then ``box`` is the window (it does not grow),
+        (:mod:`porenet.kernels.viscous.multirate`): then ``box`` is the window (it does not grow),
         ``nbox`` the active box, the ring around the window is read at each step's start
         and books the volume it receives, and the call ends with
-        :data:`porenet.kernels.window.CUT` when a meniscus outside the window may start or a
+        :data:`porenet.kernels.viscous.window.CUT` when a meniscus outside the window may start or a
         pore drains near its edge.
     head : ndarray of int, shape (N,)
         Scratch, -1 everywhere on entry and on return (the per-pore links of a step's

@@ -1,13 +1,13 @@
 """A window of local time steps: the pores the fine integration sweeps, and its ring.
 
-Pure numba helpers on arrays, in scaled units (:mod:`porenet.kernels.viscous`), for the
-multirate scheme of :mod:`porenet.kernels.multirate`. During a macro step the explicit and
-RKC integrators (:func:`porenet.kernels.viscous.explicit_advance`,
-:func:`porenet.kernels.rkc.rkc_advance`) sweep only the pores of a box ``W`` of the square
+Pure numba helpers on arrays, in scaled units (:mod:`porenet.kernels.viscous.explicit`), for the
+multirate scheme of :mod:`porenet.kernels.viscous.multirate`. During a macro step the explicit and
+RKC integrators (:func:`porenet.kernels.viscous.explicit.explicit_advance`,
+:func:`porenet.kernels.viscous.rkc.rkc_advance`) sweep only the pores of a box ``W`` of the square
 grid around the active menisci. The pores just outside it (the *ring*) are Dirichlet data,
 the coarse step's pressures interpolated linearly in time from the start of the macro step,
 and every throat between ``W`` and its ring books the volume it carries, which
-:func:`porenet.kernels.multirate.far_update` compares with the coarse step's (refluxing).
+:func:`porenet.kernels.viscous.multirate.far_update` compares with the coarse step's (refluxing).
 The menisci outside ``W`` are not integrated: their pores' pressures are interpolated the
 same way, and a macro step ends (status :data:`CUT`) as soon as one of them reaches its
 threshold, or a pore drains near an open edge of ``W``.
@@ -29,7 +29,7 @@ The window travels as one tuple ``win = (wi, wf, wbox, ring_i, ring_f, p0, rate,
   loops are over the window's menisci only.
 
 With ``wi[0] == OFF`` every helper is a no-op and the integrators behave as without a window.
-In ``COARSE`` mode only the shadow sums run: :func:`porenet.kernels.multirate.coarse_step`
+In ``COARSE`` mode only the shadow sums run: :func:`porenet.kernels.viscous.multirate.coarse_step`
 sweeps the window with everything else and books what crosses its edge.
 """
 
@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit
-from porenet.kernels.menisci import undrained_pore
+from porenet.kernels.viscous.menisci import undrained_pore
 
 #: Slots of ``wi``: the mode (:data:`OFF`, :data:`FINE`, :data:`COARSE`), the edge margin,
 #: the ring throats and the window's outlet links (listed after them), and after a cut its

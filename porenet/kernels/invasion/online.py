@@ -1,6 +1,6 @@
 """Step-by-step ("online") invasion percolation with entry pressures that may change between steps.
 
-The kernels of :mod:`porenet.kernels.ip` precompute the whole invasion from quenched entry
+The kernels of :mod:`porenet.kernels.invasion.ip` precompute the whole invasion from quenched entry
 pressures and apply trapping afterwards, in reverse. When the medium deforms after every drained
 pore, the entry pressures change between steps and neither trick applies. The kernels here
 advance the invasion one pore at a time instead, keeping its state in plain arrays
@@ -17,8 +17,8 @@ advance the invasion one pore at a time instead, keeping its state in plain arra
   found right after it drains (below) and their pores are trapped for good.
 
 With entry pressures that never change, the sequence equals that of
-:func:`porenet.kernels.ip.invasion_sequence` (same pores and throats, same tie-breaking, same
-treatment of repeated inlets, of inlets cut off from the outlet and of breakthrough).
+:func:`porenet.kernels.invasion.ip.invasion_sequence` (same pores and throats, same tie-breaking,
+same treatment of repeated inlets, of inlets cut off from the outlet and of breakthrough).
 
 Online trapping
 ---------------
@@ -66,7 +66,7 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit
-from porenet.kernels.graph import max_degree
+from porenet.kernels.shared.graph import max_degree
 
 #: Pore status: defending, in a cluster with an outlet pore.
 UNDRAINED = 0
@@ -112,7 +112,7 @@ def online_state(
     n_pores, n_throats : int
         N and M.
     degree : int
-        Largest number of neighbours of a pore (:func:`porenet.kernels.graph.max_degree`).
+        Largest number of neighbours of a pore (:func:`porenet.kernels.shared.graph.max_degree`).
 
     Returns
     -------
@@ -326,7 +326,7 @@ def online_start(
 
     With trapping, the defending clusters without an outlet pore once the inlets are drained
     are trapped at once (a flood fill from the outlet pores, O(N + M)), as in
-    :func:`porenet.kernels.ip.invasion_sequence`.
+    :func:`porenet.kernels.invasion.ip.invasion_sequence`.
 
     Parameters
     ----------
@@ -346,7 +346,7 @@ def online_start(
     -------
     int
         Number of distinct inlets (they are the pores of ``inlets`` in order of first
-        appearance, as :func:`porenet.kernels.ip.invasion_sequence` records them).
+        appearance, as :func:`porenet.kernels.invasion.ip.invasion_sequence` records them).
     """
     n = indptr.shape[0] - 1
     status[:] = UNDRAINED
@@ -525,7 +525,7 @@ def online_sequence(
     max_steps: int,
 ) -> tuple[np.ndarray, np.ndarray]:
     """A whole invasion with fixed entry pressures, online: the arguments and the result of
-    :func:`porenet.kernels.ip.invasion_sequence` (``max_steps`` counts the inlets).
+    :func:`porenet.kernels.invasion.ip.invasion_sequence` (``max_steps`` counts the inlets).
 
     Returns
     -------

@@ -1,6 +1,7 @@
-"""Kernels of local time stepping (:mod:`porenet.kernels.multirate`, :mod:`porenet.kernels.window`):
-the ring of a window, the coarse step's shadow sums (exact volume bookkeeping across the
-window's edge) and the far-field update (volume conserved to round-off)."""
+"""Kernels of local time stepping (:mod:`porenet.kernels.viscous.multirate`,
+:mod:`porenet.kernels.viscous.window`): the ring of a window, the coarse step's shadow sums (exact
+volume bookkeeping across the window's edge) and the far-field update (volume conserved to
+round-off)."""
 
 from __future__ import annotations
 
@@ -8,9 +9,9 @@ import numpy as np
 import pytest
 
 from porenet.builtin.fluids.local_steps import LocalSteps
-from porenet.kernels import multirate as mk
-from porenet.kernels.chebyshev import stage_count
-from porenet.kernels.window import RING_COARSE, RING_FLUX
+from porenet.kernels.viscous import multirate as mk
+from porenet.kernels.viscous.chebyshev import stage_count
+from porenet.kernels.viscous.window import RING_COARSE, RING_FLUX
 from porenet.simulation import Simulation
 
 N = 30

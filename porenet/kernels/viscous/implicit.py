@@ -1,6 +1,6 @@
 """Backward Euler for the viscous model, sliding menisci and located events (docs/model.md §4).
 
-Scaled units and equations as in :mod:`porenet.kernels.viscous`. One step of length ``dt``
+Scaled units and equations as in :mod:`porenet.kernels.viscous.explicit`. One step of length ``dt``
 solves, for every undrained pore i (drained pores are decoupled rows that keep their value),
 
     (V_i/dt + g_out,i + sum_j g_ij) p_i' - sum_j g_ij p_j' = V_i p_i / dt + sum_{m into i} q_m
@@ -29,7 +29,7 @@ K^{-1} E q``, one extra solve per pore with a non-OFF meniscus. Switching states
 factorisation.
 
 Events, both located by Illinois regula falsi on the step length (as :func:`landing_step` in
-:mod:`porenet.kernels.menisci` does for the explicit scheme), on
+:mod:`porenet.kernels.viscous.menisci` does for the explicit scheme), on
 ``h(dt) = min(min_m (l_m - q_m dt / A_m) / l0, min_m' (pe_m' - D'_m') / pe_m')``:
 
 * landing: an advancing meniscus' remaining length reaches 0. The pore drains at the end of
@@ -86,9 +86,9 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from porenet.kernels._jit import njit
-from porenet.kernels.menisci import CONTROL_PRESSURE, CONTROL_RAMP, CONTROL_RATE
-from porenet.kernels.viscous import STATUS as _EXPLICIT_STATUS
-from porenet.kernels.viscous import drain_pore
+from porenet.kernels.viscous.explicit import STATUS as _EXPLICIT_STATUS
+from porenet.kernels.viscous.explicit import drain_pore
+from porenet.kernels.viscous.menisci import CONTROL_PRESSURE, CONTROL_RAMP, CONTROL_RATE
 
 #: Meniscus states (``mstate`` per throat; a latched meniscus is ON or OFF (= ZERO)).
 OFF, SLIDE, ON = 0, 1, 2
@@ -764,7 +764,7 @@ def implicit_advance(
     """Integrate with backward Euler until ``max_events`` pores drain or another stop.
 
     Returns a :data:`STATUS` code. Arguments as in
-    :func:`porenet.kernels.viscous.explicit_advance` (the same state arrays, updated in the
+    :func:`porenet.kernels.viscous.explicit.explicit_advance` (the same state arrays, updated in the
     same way, so both integrators leave the same records), and:
 
     Parameters

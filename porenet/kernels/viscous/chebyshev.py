@@ -1,9 +1,9 @@
 """Runge-Kutta-Chebyshev numerics on the pore field: coefficients, stage counts, sweeps.
 
-Pure functions on arrays, in scaled units (see :mod:`porenet.kernels.viscous`), for the
-stabilised integrator of :mod:`porenet.kernels.rkc`: the damped (``eps = 2/13``) second-order
-RKC scheme in the IMEX form of Verwer & Sommeijer (2004) and of the IRKC code (Shampine,
-Sommeijer & Verwer 2006), the rule for its number of stages, the spectral radius of the
+Pure functions on arrays, in scaled units (see :mod:`porenet.kernels.viscous.explicit`), for the
+stabilised integrator of :mod:`porenet.kernels.viscous.rkc`: the damped (``eps = 2/13``)
+second-order RKC scheme in the IMEX form of Verwer & Sommeijer (2004) and of the IRKC code
+(Shampine, Sommeijer & Verwer 2006), the rule for its number of stages, the spectral radius of the
 pore-to-pore operator that sets it, and one stage as a single stencil sweep over the active
 pores (a box on canonical grids, a list elsewhere).
 """
@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
-from porenet.kernels.diffusion import csr_fluxes, grid_flux
+from porenet.kernels.viscous.diffusion import csr_fluxes, grid_flux
 
 #: Most stages of one step (the step is cut to what they make stable).
 MAX_STAGES = 400
@@ -104,8 +104,8 @@ def _row_stage(
     out: np.ndarray,
 ) -> None:
     """One stage for a run of a row with both horizontal neighbours in the box (aligned views
-    as in :func:`porenet.kernels.diffusion._row_interior`): ``out = c1 y1 + c2 y2 + (ce L y1 +
-    cf f0) / V`` with ``y1 = pc``; ``outlet`` says whether the run touches the outlet (only
+    as in :func:`porenet.kernels.viscous.diffusion._row_interior`): ``out = c1 y1 + c2 y2 + (ce L
+    y1 + cf f0) / V`` with ``y1 = pc``; ``outlet`` says whether the run touches the outlet (only
     rows on the lattice's edge do: elsewhere ``g_out`` is not read). No reduction, so it
     compiles to SIMD instructions without reordering any sum: every pore is computed the same
     way, whatever the alignment of the arrays (a run is bitwise reproducible)."""
@@ -258,9 +258,9 @@ def grid_stage(
     cf f0) / V`` (``coef = (c1, c2, ce, cf)``), or with ``flux_only`` ``out = L y1``
     (volumetric; ``L y`` is the Darcy flux into each pore, ``F_E``). Neighbours outside the box
     ``nbox`` (which holds ``box``: the active pores; ``box`` itself when the whole of it is
-    swept) do not count, as in :func:`porenet.kernels.diffusion.grid_sweep`; neighbours
+    swept) do not count, as in :func:`porenet.kernels.viscous.diffusion.grid_sweep`; neighbours
     outside ``box`` but inside ``nbox`` do, with the values ``y1`` holds there (a window's
-    ring, :mod:`porenet.kernels.multirate`). Returns the outflow rate ``sum g_out y1`` over
+    ring, :mod:`porenet.kernels.viscous.multirate`). Returns the outflow rate ``sum g_out y1`` over
     ``box`` (per row, then over the rows in order: the same bits on any number of threads).
     Boxes of :data:`porenet.kernels._jit.PARALLEL_MIN` pores or more are swept by several
     threads."""
@@ -323,7 +323,7 @@ def sweep(
 ) -> float:
     """:func:`grid_stage` or :func:`csr_stage` over the active pores of ``field = (grid_n,
     box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch, nbox)`` (``nbox``
-    is ``box`` except in a window of local time steps, :mod:`porenet.kernels.multirate`)."""
+    is ``box`` except in a window of local time steps, :mod:`porenet.kernels.viscous.multirate`)."""
     grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch, nbox = field
     if grid_n > 0:
         return grid_stage(

@@ -1,12 +1,13 @@
 """Stabilised explicit time integration of the viscous model: IMEX Runge-Kutta-Chebyshev.
 
-Scaled units and equations as in :mod:`porenet.kernels.viscous`. The explicit integrator's
+Scaled units and equations as in :mod:`porenet.kernels.viscous.explicit`. The explicit integrator's
 step is bounded by stability, ``dt <= min_i V_i / sum_j g_ij``, so at small Ca it takes
 ~4/(n Ca) steps per drained pore although the pressures change slowly. A Runge-Kutta-Chebyshev
 (RKC) step of length ``h`` sweeps the pores ``m ~ sqrt(1.54 h rho)`` times (``rho`` the
-spectral radius of the pore-to-pore operator, :func:`porenet.kernels.chebyshev.spectral_radius`)
-and is stable for the diffusion however long ``h`` is: its cost per unit of model time falls
-like ``1 / sqrt(h)``, and ``h`` is set by accuracy and by the events, not by stability.
+spectral radius of the pore-to-pore operator,
+:func:`porenet.kernels.viscous.chebyshev.spectral_radius`) and is stable for the diffusion however
+long ``h`` is: its cost per unit of model time falls like ``1 / sqrt(h)``, and ``h`` is set by
+accuracy and by the events, not by stability.
 
 The scheme is the implicit-explicit RKC method of Verwer & Sommeijer (SIAM J. Sci. Comput. 25,
 1824, 2004) as the IRKC code of Shampine, Sommeijer & Verwer (J. Comput. Appl. Math. 196, 485,
@@ -14,10 +15,10 @@ The scheme is the implicit-explicit RKC method of Verwer & Sommeijer (SIAM J. Sc
 unconditionally stable in the implicit part. Here
 
 * the explicit part ``F_E`` is the Darcy flux between undrained pores and to the outlet (one
-  stencil sweep per stage, :func:`porenet.kernels.chebyshev.sweep`);
+  stencil sweep per stage, :func:`porenet.kernels.viscous.chebyshev.sweep`);
 * the implicit part ``F_I`` is the menisci, the pores they enter and the injection reservoir:
   exactly the point-implicit problem of the explicit integrator's step
-  (:mod:`porenet.kernels.menisci`: the sliding closure of the threshold law and the pump),
+  (:mod:`porenet.kernels.viscous.menisci`: the sliding closure of the threshold law and the pump),
   solved in every stage over the stage step ``h mu~_1`` (~``3 h / m^2``);
 
 with stages (``W_0 = y_n``)::
@@ -37,7 +38,7 @@ Events. No pore drains inside an RKC step: a step ends at :data:`LAND` of the pr
 the next landing (from the meniscus fluxes at its start) and is rejected if a meniscus would
 pass ``l = 0`` all the same. Once the next landing is nearer than :data:`EXPLICIT_SPAN`
 explicit steps, or accuracy asks for so short a step, the explicit integrator
-(:func:`porenet.kernels.viscous.explicit_advance`) takes over until the landing, which it
+(:func:`porenet.kernels.viscous.explicit.explicit_advance`) takes over until the landing, which it
 locates exactly (``l = 0``, no overshoot), then RKC resumes. A meniscus that starts within a
 step is a candidate of the step (its threshold is within reach of the invading pressure) and
 switches on inside the stages; a step at whose end a meniscus that was not a candidate is past
@@ -50,7 +51,7 @@ F(y_{n+1}))`` (Sommeijer, Shampine & Verwer, J. Comput. Appl. Math. 88, 315, 199
 norm over the pore pressures and ``p_inv``, against ``tolerance`` times the entry-pressure
 spread; the next step from the RKC code's predictive controller (the error's growth over the
 last two steps), at most :data:`GROW` times longer. The stage count is ``m = 1 + floor(sqrt(1 +
-1.54 h rho))``, at least 3 (stable for the IMEX pair: ``tests/unit/kernels/test_rkc.py``).
+1.54 h rho))``, at least 3 (stable for the IMEX pair: ``tests/unit/kernels/viscous/test_rkc.py``).
 """
 
 from __future__ import annotations
@@ -58,18 +59,18 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
-from porenet.kernels.chebyshev import MAX_STAGES, longest_step, stage_count, sweep
-from porenet.kernels.diffusion import grow_where_reached, spread
-from porenet.kernels.menisci import (
+from porenet.kernels.viscous.chebyshev import MAX_STAGES, longest_step, stage_count, sweep
+from porenet.kernels.viscous.diffusion import grow_where_reached, spread
+from porenet.kernels.viscous.explicit import STATUS, _list_meniscus, explicit_advance
+from porenet.kernels.viscous.menisci import (
     CONTROL_PRESSURE,
     CONTROL_RATE,
     invader_pressure,
     meniscus_fluxes,
     undrained_pore,
 )
-from porenet.kernels.rkc_step import imex_stages, implicit_rate, pump_rate, step_error
-from porenet.kernels.viscous import STATUS, _list_meniscus, explicit_advance
-from porenet.kernels.window import (
+from porenet.kernels.viscous.rkc_step import imex_stages, implicit_rate, pump_rate, step_error
+from porenet.kernels.viscous.window import (
     CUT,
     CUT_FAR_MENISCUS,
     FINE,
@@ -131,7 +132,7 @@ def _list_candidates(
     t: float,
 ) -> int:
     """The candidate menisci of a step of ``h`` from the state of ``menisci0`` (its ``p``,
-    and ``F_E`` as its ``flux``), as :func:`porenet.kernels.viscous.explicit_advance` lists
+    and ``F_E`` as its ``flux``), as :func:`porenet.kernels.viscous.explicit.explicit_advance` lists
     them: at or above their threshold (latched ones with threshold 0), then those the invading
     pressure can bring to it within the step, allowing for the pore's own explicit change.
     Marks them in ``cand``; returns their number. In a window only the menisci into its pores
@@ -292,7 +293,7 @@ def rkc_advance(
 ) -> int:
     """Integrate with IMEX RKC steps until ``max_events`` pores drain or another stop.
 
-    Arguments as :func:`porenet.kernels.viscous.explicit_advance` (which it calls near
+    Arguments as :func:`porenet.kernels.viscous.explicit.explicit_advance` (which it calls near
     landings, with ``dt_max`` its step), plus: ``ybuf`` (3, N) stage buffers, ``f0`` and
     ``fnew`` (N) ``F_E`` at the start and end of a step (the two swap roles at each
     accepted step; ``ctrl`` records which of them holds ``F_E(p)`` when a call returns, so the
@@ -302,13 +303,13 @@ def rkc_advance(
     of the pore-to-pore operator, ``dt_stable`` the explicit stability limit,
     ``pressure_scale`` the entry-pressure spread and ``tolerance`` the local error allowed
     per step as a fraction of it. Returns a
-    :data:`porenet.kernels.viscous.STATUS` code.
+    :data:`porenet.kernels.viscous.explicit.STATUS` code.
 
-    ``nbox`` is ``box`` and ``win`` a window that is off (:func:`porenet.kernels.window.
+    ``nbox`` is ``box`` and ``win`` a window that is off (:func:`porenet.kernels.viscous.window.
     no_window`), except for the fine integration of a macro step of local time steps
-    (:mod:`porenet.kernels.multirate`): then ``box`` is the window, which does not grow,
+    (:mod:`porenet.kernels.viscous.multirate`): then ``box`` is the window, which does not grow,
     ``nbox`` the active box, and the integration ends early with
-    :data:`porenet.kernels.window.CUT` when a meniscus outside the window may start or a
+    :data:`porenet.kernels.viscous.window.CUT` when a meniscus outside the window may start or a
     pore drains near its edge.
 
     ``work = (head, cand, fi)``: scratch of shapes (N,) int, (M,) bool and (N,) float, -1,

@@ -5,7 +5,7 @@ balance decouple (contacts are frictionless, so a spring resists only along its 
 every line of springs between two fixed particles is an independent tridiagonal system: a
 *chain*. :func:`find_chains` finds them for any such lattice; :func:`solve_chains` solves the
 lines whose loads changed by the Thomas algorithm, with the contact iteration of
-:mod:`porenet.kernels.mechanics` per line, and applies the result.
+:mod:`porenet.kernels.mechanics.springs` per line, and applies the result.
 
 Loads are kept up to date lazily (:func:`refresh_loads`): a pore's pressure is passed on to its
 particles only when it moved by more than a threshold since it was last passed on, and only
@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from porenet.kernels._jit import njit
-from porenet.kernels.mechanics import (
+from porenet.kernels.mechanics.springs import (
     IN_CONTACT,
     OPEN,
     REDUCED_RADIUS,
@@ -176,7 +176,7 @@ def refresh_loads(
     pair_ptr : (N+1,) int
         Pore i's particle contacts are ``pair_ptr[i]:pair_ptr[i+1]`` of the two arrays below.
     pair_particle, pair_direction, area
-        As for :func:`porenet.kernels.mechanics.pressure_loads`.
+        As for :func:`porenet.kernels.mechanics.springs.pressure_loads`.
     load : (n_particles, 2) float, in/out
         Fluid forces (gamma a), kept equal to those of ``seen``.
     particle_chain : (n_particles, 2) int
@@ -268,7 +268,7 @@ def solve_chains(
     modulus, cohesion_stiffness, contact_stiffness, foundation_stiffness : float
         ``E*`` (gamma/a), ``k_c``, ``K_0`` and ``k_f`` (gamma); ``k_f`` ties every free
         particle to its initial position along the chain
-        (:mod:`porenet.kernels.mechanics`, "Foundation").
+        (:mod:`porenet.kernels.mechanics.springs`, "Foundation").
     recontact : bool
         Whether an open spring may close again.
     max_iterations : int
@@ -276,7 +276,7 @@ def solve_chains(
     displacement : (n_particles, 2) float, in/out
         Particle displacements (a).
     geometric, apertures, floor, cap, at_floor, at_cap
-        As for :func:`porenet.kernels.mechanics.apply_spring`.
+        As for :func:`porenet.kernels.mechanics.springs.apply_spring`.
     changed : (M,) int64, out
         The throats whose aperture changed, in ``changed[:stats[5]]``.
     stats : (8,) float, out

@@ -1,8 +1,9 @@
 """One IMEX Runge-Kutta-Chebyshev step of the viscous model, and its error estimate.
 
 The stages and the local error estimate of the stabilised integrator; the scheme, the events
-and the step control are described in :mod:`porenet.kernels.rkc`, which drives these
-functions. Pure numba functions on arrays, in scaled units (:mod:`porenet.kernels.viscous`).
+and the step control are described in :mod:`porenet.kernels.viscous.rkc`, which drives these
+functions. Pure numba functions on arrays, in scaled units
+(:mod:`porenet.kernels.viscous.explicit`).
 """
 
 from __future__ import annotations
@@ -10,15 +11,15 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
-from porenet.kernels.chebyshev import coefficients, sweep
-from porenet.kernels.menisci import (
+from porenet.kernels.viscous.chebyshev import coefficients, sweep
+from porenet.kernels.viscous.menisci import (
     CONTROL_PRESSURE,
     CONTROL_RAMP,
     CONTROL_RATE,
     meniscus_fluxes,
     pore_after,
 )
-from porenet.kernels.window import FINE, OFF, ring_increment, shadow_stage
+from porenet.kernels.viscous.window import FINE, OFF, ring_increment, shadow_stage
 
 
 @njit(helper=True)
@@ -134,10 +135,10 @@ def imex_stages(
     outflow volume since ``y_n``. Returns the buffer of ``y_{n+1}``; ``moved[s]`` tells
     whether candidate ``s`` flowed in any stage.
 
-    In a window's fine integration (:mod:`porenet.kernels.window`) the ring pores' increments
-    at each stage's time ``c_j h`` are written into the stage buffers before they are swept;
-    in it and in the coarse step over everything the volume each ring throat carries follows
-    the stages (:func:`porenet.kernels.window.shadow_stage`).
+    In a window's fine integration (:mod:`porenet.kernels.viscous.window`) the ring pores'
+    increments at each stage's time ``c_j h`` are written into the stage buffers before they are
+    swept; in it and in the coarse step over everything the volume each ring throat carries follows
+    the stages (:func:`porenet.kernels.viscous.window.shadow_stage`).
     """
     on_t, on_p, c_on, head, nxt, _p, _f, vol, g_num, ell, area = menisci0
     control, pinv, q_rate, capacity, ramp = pump0

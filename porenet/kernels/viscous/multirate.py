@@ -1,9 +1,9 @@
 """Local time steps for the viscous model: fine steps in a window, one long step elsewhere.
 
-Pure numba functions on arrays, in scaled units (:mod:`porenet.kernels.viscous`); the macro
+Pure numba functions on arrays, in scaled units (:mod:`porenet.kernels.viscous.explicit`); the macro
 steps are driven by :class:`porenet.builtin.fluids.local_steps.LocalSteps`.
 
-At small Ca the RKC integrator (:mod:`porenet.kernels.rkc`) sweeps the whole box of active
+At small Ca the RKC integrator (:mod:`porenet.kernels.viscous.rkc`) sweeps the whole box of active
 pores ~150 times per drained pore because the few pores next to the newest meniscus need
 short steps: after every landing the pressure there relaxes like ``ln t``, and the step can
 only grow geometrically. The error of a step is local (``tests/benchmarks/error_locality.py``:
@@ -19,7 +19,7 @@ reflux: Savcenco, Hundsdorfer & Verwer, BIT 47, 137, 2007; Berger & Colella, J. 
 2. **the fine integration of** ``W``: the explicit and RKC integrators, unchanged, over the
    pores of ``W`` only, with every landing, start and Haines jump as without a window, the
    pores just outside ``W`` (its ring) held to the coarse step's pressures interpolated
-   linearly in time (:mod:`porenet.kernels.window`); it ends at ``t0 + H`` or earlier, at a
+   linearly in time (:mod:`porenet.kernels.viscous.window`); it ends at ``t0 + H`` or earlier, at a
    cut (a meniscus outside ``W`` may start, or a pore drains near its edge);
 3. **the far field** (:func:`far_update`): every pore outside ``W`` takes the coarse
    step's pressures interpolated to the time the fine integration reached, and each ring
@@ -40,11 +40,11 @@ from __future__ import annotations
 import numpy as np
 
 from porenet.kernels._jit import njit
-from porenet.kernels.chebyshev import sweep
-from porenet.kernels.diffusion import set_add, set_remove
-from porenet.kernels.menisci import undrained_pore
-from porenet.kernels.rkc_step import imex_stages
-from porenet.kernels.window import (
+from porenet.kernels.viscous.chebyshev import sweep
+from porenet.kernels.viscous.diffusion import set_add, set_remove
+from porenet.kernels.viscous.menisci import undrained_pore
+from porenet.kernels.viscous.rkc_step import imex_stages
+from porenet.kernels.viscous.window import (
     COARSE,
     RING_COARSE,
     RING_FLUX,
@@ -145,7 +145,7 @@ def coarse_step(
     each ring throat carried out of the window and each outlet link (listed after the ring
     throats, :func:`outlet_links`) out of its pore; into ``ebox`` the bounding box of the
     pores whose local error estimate exceeds ``threshold`` (empty if none).
-    ``menisci0``/``pump0``: the tuples of :func:`porenet.kernels.rkc_step.imex_stages` (no
+    ``menisci0``/``pump0``: the tuples of :func:`porenet.kernels.viscous.rkc_step.imex_stages` (no
     meniscus is listed). Returns the total outflow."""
     grid_n, box = field[0], field[1]
     inv_vol = field[10]
@@ -356,7 +356,7 @@ def merge_front(
 ) -> None:
     """After a fine integration that drained the pores ``order[first:last]`` with the
     window's own front: update the global front (``front``, ``fpos``, ``cnt[2]``) as
-    :func:`porenet.kernels.viscous.drain_pore` would have (a throat joining two drained
+    :func:`porenet.kernels.viscous.explicit.drain_pore` would have (a throat joining two drained
     pores leaves it, one from a drained pore to an undrained one joins it), and clear the
     window front's slots ``wfpos`` of its ``n_w`` throats."""
     for k in range(first, last):

@@ -1,0 +1,1 @@
+"""Kernels every model uses: the pore graph, stable ranking, burst statistics."""
