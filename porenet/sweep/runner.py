@@ -16,11 +16,9 @@ runs of two different sweeps.
 from __future__ import annotations
 
 import contextlib
-import csv
 import json
 import logging
 import os
-import tempfile
 import time
 import traceback
 from collections.abc import Callable
@@ -28,27 +26,25 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from porenet._version import __version__
 from porenet.core.errors import ConfigError, PorenetError, RunFileError
 from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, default_workers
+from porenet.sweep.progress import Progress, clock, format_progress
+from porenet.sweep.records import (
+    SUMMARY_CSV,
+    SUMMARY_FIELDS,
+    SummaryTable,
+    atomic_write_text,
+    error_text,
+    plain,
+    read_error,
+    scene_difference,
+)
 from porenet.sweep.spec import RunSpec, Sweep, columns, expand, load_sweep
 
 log = logging.getLogger(__name__)
 
-#: Values taken from each run's summary into ``summary.csv``.
-SUMMARY_FIELDS = (
-    "fractal_dimension",
-    "fractal_dimension_error",
-    "regime",
-    "regime_confidence",
-    "capillary_number_measured",
-    "wall_time_s",
-)
-
 SWEEP_JSON = "sweep.json"
-SUMMARY_CSV = "summary.csv"
 RUNS_DIR = "runs"
 
 
@@ -81,10 +77,6 @@ class _Capture(logging.Handler):
             self.messages.append(f"{record.levelname.lower()}: {record.getMessage()}")
 
 
-def _plain(value: Any) -> Any:
-    return value.item() if isinstance(value, np.generic) else value
-
-
 def one_line(exc: BaseException) -> str:
     """``Type: message`` on one line."""
     text = " ".join(str(exc).split())
@@ -110,7 +102,7 @@ def execute_run(task: RunTask) -> dict[str, Any]:
 
         configure_threads("auto", most=task.threads)
         result = run(task.scene, output=task.output)
-        out: dict[str, Any] = {k: _plain(result.summary.get(k)) for k in SUMMARY_FIELDS}
+        out: dict[str, Any] = {k: plain(result.summary.get(k)) for k in SUMMARY_FIELDS}
         out["status"] = "done"
     except Exception as exc:
         out = {
@@ -125,122 +117,6 @@ def execute_run(task: RunTask) -> dict[str, Any]:
     out["task_time_s"] = time.perf_counter() - t0
     out["warnings"] = capture.messages
     return out
-
-
-# --------------------------------------------------------------------------- files
-
-
-def _atomic_write_text(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
-def _cell(value: Any) -> str:
-    value = _plain(value)
-    if value is None:
-        return ""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float):
-        return repr(value)
-    if isinstance(value, list | dict):
-        return json.dumps(value)
-    return str(value)
-
-
-def _flatten(data: Any, prefix: str = "") -> dict[str, Any]:
-    if not isinstance(data, dict):
-        return {prefix: data}
-    out: dict[str, Any] = {}
-    for key, value in data.items():
-        out.update(_flatten(value, f"{prefix}.{key}" if prefix else str(key)))
-    return out
-
-
-def scene_difference(recorded: dict[str, Any], intended: dict[str, Any], limit: int = 3) -> str:
-    """The first few dotted keys on which two scenes differ, ``key: old -> new``."""
-    a, b = _flatten(recorded), _flatten(intended)
-    keys = [k for k in dict.fromkeys([*a, *b]) if a.get(k, "<unset>") != b.get(k, "<unset>")]
-    shown = [f"{k}: {a.get(k, '<unset>')!r} -> {b.get(k, '<unset>')!r}" for k in keys[:limit]]
-    more = f" (and {len(keys) - limit} more)" if len(keys) > limit else ""
-    return "; ".join(shown) + more
-
-
-def _error_text(run: RunSpec, outcome: dict[str, Any]) -> str:
-    return (
-        f"{outcome['error']}\n\n{outcome.get('traceback') or ''}\n"
-        f"run_id: {run.run_id}\n"
-        f"wall_time_s: {outcome.get('wall_time_s', float('nan'))!r}\n"
-        f"scene: {json.dumps(run.scene, sort_keys=True)}\n"
-    )
-
-
-def _read_error(path: Path) -> tuple[str, float | None, dict[str, Any] | None]:
-    """Message, wall time and scene of a failed run's error record."""
-    lines = path.read_text(encoding="utf-8").splitlines()
-    message = lines[0] if lines else "failed"
-    wall: float | None = None
-    scene: dict[str, Any] | None = None
-    for line in reversed(lines[-3:]):
-        if line.startswith("scene: "):
-            with contextlib.suppress(ValueError):
-                scene = json.loads(line[len("scene: ") :])
-        elif line.startswith("wall_time_s: "):
-            with contextlib.suppress(ValueError):
-                wall = float(line[len("wall_time_s: ") :])
-    return message, wall, scene
-
-
-# --------------------------------------------------------------------------- progress
-
-
-@dataclass(frozen=True)
-class Progress:
-    """Where a sweep stands (given to ``on_progress`` after every finished run)."""
-
-    total: int  # runs in the sweep
-    done: int  # finished successfully (this session or before)
-    failed: int  # failed (this session or before)
-    to_run: int  # runs this session started with
-    finished_now: int  # of those, finished (done or failed)
-    elapsed_s: float  # since this session's runs started
-    workers: int | None
-    last: str | None = None  # run id just finished
-
-    @property
-    def eta_s(self) -> float | None:
-        """Time left: the mean wall time per run finished this session (as seen from the
-        sweep, i.e. elapsed / finished, which accounts for parallel workers) times the runs
-        left; None before the first run finishes."""
-        if self.finished_now == 0:
-            return None
-        return self.elapsed_s / self.finished_now * (self.to_run - self.finished_now)
-
-
-def _clock(seconds: float) -> str:
-    whole = round(seconds)
-    h, rest = divmod(whole, 3600)
-    m, s = divmod(rest, 60)
-    return f"{h}:{m:02d}:{s:02d}" if h else f"{m:02d}:{s:02d}"
-
-
-def format_progress(p: Progress) -> str:
-    """One line: ``12/36 runs, 1 failed, 00:42 elapsed, ETA 01:30``."""
-    eta = p.eta_s
-    return (
-        f"{p.done + p.failed}/{p.total} runs, {p.failed} failed, {_clock(p.elapsed_s)} elapsed"
-        + (f", ETA {_clock(eta)}" if eta is not None else "")
-    )
 
 
 # --------------------------------------------------------------------------- the sweep
@@ -269,42 +145,8 @@ class SweepReport:
         return (
             f"{self.total} runs: {self.done} done, {self.failed} failed"
             f" ({self.ran} run now, {self.skipped} finished before); "
-            f"{_clock(self.elapsed_s)}; summary {self.summary_path}"
+            f"{clock(self.elapsed_s)}; summary {self.summary_path}"
         )
-
-
-class _Table:
-    """The rows of ``summary.csv`` (finished runs, in run order)."""
-
-    def __init__(self, out_dir: Path, runs: list[RunSpec], swept: list[str]) -> None:
-        self.path = out_dir / SUMMARY_CSV
-        self.order = {run.run_id: i for i, run in enumerate(runs)}
-        self.header = ["run_id", *swept, "seed", "status", *SUMMARY_FIELDS, "run_file", "error"]
-        self.rows: dict[str, dict[str, str]] = {}
-
-    def record(self, run: RunSpec, status: str, values: dict[str, Any], error: str = "") -> None:
-        row = {"run_id": run.run_id}
-        row.update({k: _cell(v) for k, v in run.params.items()})
-        row.update(seed=str(run.seed), status=status)
-        row.update({k: _cell(values.get(k)) for k in SUMMARY_FIELDS})
-        row.update(run_file=run.run_file if status == "done" else "", error=error)
-        self.rows[run.run_id] = row
-
-    def counts(self) -> tuple[int, int]:
-        done = sum(r["status"] == "done" for r in self.rows.values())
-        return done, len(self.rows) - done
-
-    def sorted_rows(self) -> list[dict[str, str]]:
-        return [self.rows[k] for k in sorted(self.rows, key=self.order.__getitem__)]
-
-    def write(self) -> None:
-        import io
-
-        buf = io.StringIO()
-        writer = csv.DictWriter(buf, fieldnames=self.header, lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(self.sorted_rows())
-        _atomic_write_text(self.path, buf.getvalue())
 
 
 def _clean_partials(out_dir: Path) -> None:
@@ -323,7 +165,7 @@ def _edited(path: Path, run: RunSpec, sweep: Sweep, recorded: dict[str, Any]) ->
 
 
 def _scan(
-    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: _Table, retry_failed: bool
+    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: SummaryTable, retry_failed: bool
 ) -> list[RunSpec]:
     """Record finished runs in ``table``; return the runs to do. Refuses foreign files."""
     from porenet.io.runfile import read_run
@@ -353,7 +195,7 @@ def _scan(
                 table.record(run, "done", data.summary)
                 continue
         if error_path.is_file():
-            message, wall, scene = _read_error(error_path)
+            message, wall, scene = read_error(error_path)
             if scene is not None and scene != run.scene:
                 raise _edited(error_path, run, sweep, scene)
             if not retry_failed:
@@ -437,7 +279,7 @@ def run_sweep(
     (out / RUNS_DIR).mkdir(parents=True, exist_ok=True)
     _clean_partials(out)
     swept = columns(sweep.spec)
-    table = _Table(out, runs, swept)
+    table = SummaryTable(out, runs, swept)
     todo = _scan(out, runs, sweep, table, retry_failed)
     # the executor first: an unreachable scheduler fails before anything is written
     ex = executor
@@ -505,10 +347,10 @@ def _write_resolved(out: Path, sweep: Sweep, runs: list[RunSpec], swept: list[st
             for r in runs
         ],
     }  # fmt: skip
-    _atomic_write_text(out / SWEEP_JSON, json.dumps(resolved, indent=1) + "\n")
+    atomic_write_text(out / SWEEP_JSON, json.dumps(resolved, indent=1) + "\n")
 
 
-def _finish(out: Path, run: RunSpec, outcome: Any, table: _Table) -> None:
+def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryTable) -> None:
     """Record one outcome: a result dict of :func:`execute_run`, or an exception."""
     error_path = out / RUNS_DIR / f"{run.run_id}.error.txt"
     if isinstance(outcome, BaseException) and not isinstance(outcome, Exception):
@@ -528,7 +370,7 @@ def _finish(out: Path, run: RunSpec, outcome: Any, table: _Table) -> None:
         table.record(run, "done", outcome)
         return
     log.info("%s failed: %s", run.run_id, outcome["error"])
-    _atomic_write_text(error_path, _error_text(run, outcome))
+    atomic_write_text(error_path, error_text(run, outcome))
     table.record(run, "failed", outcome, outcome["error"])
 
 
