@@ -9,6 +9,7 @@ Importing this package loads neither dask nor h5py.
 from __future__ import annotations
 
 from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, SerialExecutor
+from porenet.sweep.files import SweepIOError
 from porenet.sweep.runner import (
     SUMMARY_FIELDS,
     Progress,
@@ -32,6 +33,7 @@ __all__ = [
     "RunTask",
     "SerialExecutor",
     "Sweep",
+    "SweepIOError",
     "SweepInterrupted",
     "SweepReport",
     "SweepSpec",

@@ -1,6 +1,7 @@
 """The sweep's records: the rows of ``summary.csv`` and the error records of failed runs.
 
-Both are written atomically (docs/sweeps.md, "The output directory").
+Both are written with :func:`porenet.sweep.files.atomic_write_text` (docs/sweeps.md,
+"The output directory").
 """
 
 from __future__ import annotations
@@ -9,13 +10,12 @@ import contextlib
 import csv
 import io
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from porenet.sweep.files import atomic_write_text, read_text
 from porenet.sweep.spec import RunSpec
 
 SUMMARY_CSV = "summary.csv"
@@ -29,22 +29,6 @@ SUMMARY_FIELDS = (
     "capillary_number_measured",
     "wall_time_s",
 )
-
-
-def atomic_write_text(path: Path, text: str) -> None:
-    """Replace ``path`` by a file holding ``text``, written under a temporary name first."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
 
 
 def plain(value: Any) -> Any:
@@ -95,7 +79,7 @@ def error_text(run: RunSpec, outcome: dict[str, Any]) -> str:
 
 def read_error(path: Path) -> tuple[str, float | None, dict[str, Any] | None]:
     """Message, wall time and scene of a failed run's error record."""
-    lines = path.read_text(encoding="utf-8").splitlines()
+    lines = read_text(path).splitlines()
     message = lines[0] if lines else "failed"
     wall: float | None = None
     scene: dict[str, Any] | None = None
@@ -146,7 +130,6 @@ __all__ = [
     "SUMMARY_CSV",
     "SUMMARY_FIELDS",
     "SummaryTable",
-    "atomic_write_text",
     "error_text",
     "plain",
     "read_error",

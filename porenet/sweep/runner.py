@@ -10,7 +10,8 @@ Layout of ``DIR`` (docs/sweeps.md)::
 Re-running the same sweep into the same ``DIR`` resumes: runs whose run file reads back with
 the intended scene are not run again, failed runs are not retried unless asked. A run file (or
 error record) whose scene differs from the sweep's is an error: a directory never mixes the
-runs of two different sweeps.
+runs of two different sweeps. The sweep's files are written atomically and an I/O error stops
+it with a message (:mod:`porenet.sweep.files`).
 """
 
 from __future__ import annotations
@@ -28,13 +29,26 @@ from typing import Any
 
 from porenet._version import __version__
 from porenet.core.errors import ConfigError, PorenetError, RunFileError
-from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, default_workers
+from porenet.sweep.executors import (
+    DaskExecutor,
+    Executor,
+    LocalExecutor,
+    SerialExecutor,
+    default_workers,
+)
+from porenet.sweep.files import (
+    SweepIOError,
+    atomic_write_text,
+    clean_partials,
+    io_error,
+    remove,
+    storage_error,
+)
 from porenet.sweep.progress import Progress, clock, format_progress
 from porenet.sweep.records import (
     SUMMARY_CSV,
     SUMMARY_FIELDS,
     SummaryTable,
-    atomic_write_text,
     error_text,
     plain,
     read_error,
@@ -89,7 +103,10 @@ def execute_run(task: RunTask) -> dict[str, Any]:
     Returns ``{"status": "done", <SUMMARY_FIELDS>, "task_time_s", "warnings"}`` or
     ``{"status": "failed", "error", "traceback", "wall_time_s", "task_time_s", "warnings"}``.
     The porenet log records of WARNING and above emitted during the run are returned in
-    ``warnings`` instead of being printed by the worker.
+    ``warnings`` instead of being printed by the worker. A failure caused by a full disk, a
+    quota or a read-only file system (:func:`porenet.sweep.files.storage_error`) also has
+    ``storage_errno`` and ``storage_error`` (the system's reason): the sweep stops on it
+    instead of recording the run as failed.
     """
     t0 = time.perf_counter()
     logger = logging.getLogger("porenet")
@@ -111,6 +128,9 @@ def execute_run(task: RunTask) -> dict[str, Any]:
             "traceback": traceback.format_exc(),
             "wall_time_s": time.perf_counter() - t0,
         }
+        storage = storage_error(exc)  # a full disk is not the run's failure: it stops the sweep
+        if storage is not None:
+            out["storage_errno"], out["storage_error"] = storage
     finally:
         logger.removeHandler(capture)
         logger.propagate = propagate
@@ -150,10 +170,10 @@ class SweepReport:
 
 
 def _clean_partials(out_dir: Path) -> None:
-    for directory in (out_dir, out_dir / RUNS_DIR):
-        for tmp in directory.glob(".*.partial"):
-            with contextlib.suppress(OSError):
-                tmp.unlink()
+    """Remove the temporaries of interrupted writes (only while holding the lock)."""
+    removed = clean_partials(out_dir, out_dir / RUNS_DIR)
+    if removed:
+        log.info("removed %d temporary file(s) of an interrupted sweep", len(removed))
 
 
 def _edited(path: Path, run: RunSpec, sweep: Sweep, recorded: dict[str, Any]) -> ConfigError:
@@ -268,6 +288,9 @@ def run_sweep(
     ------
     ConfigError
         Invalid sweep or point (nothing runs), or ``out_dir`` holds runs of another sweep.
+    SweepIOError
+        A file of ``out_dir`` cannot be written (a full disk, ...), or a run file cannot be
+        written for lack of space: the sweep stops, finished runs are kept.
     SweepInterrupted
         On Ctrl-C, after stopping the workers; finished runs are kept.
     """
@@ -276,16 +299,32 @@ def run_sweep(
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ConfigError(f"-o {out}: exists and is not a directory")
-    (out / RUNS_DIR).mkdir(parents=True, exist_ok=True)
-    _clean_partials(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise io_error(out, exc, "create") from exc
+    return _run_locked(
+        sweep, runs, out, workers, scheduler, dask_local, executor, retry_failed, on_progress
+    )
+
+
+def _run_locked(
+    sweep: Sweep,
+    runs: list[RunSpec],
+    out: Path,
+    workers: int | None,
+    scheduler: str | None,
+    dask_local: bool,
+    executor: Executor | None,
+    retry_failed: bool,
+    on_progress: Callable[[Progress], None] | None,
+) -> SweepReport:
+    """:func:`run_sweep` once the output directory exists."""
     swept = columns(sweep.spec)
     table = SummaryTable(out, runs, swept)
-    todo = _scan(out, runs, sweep, table, retry_failed)
-    # the executor first: an unreachable scheduler fails before anything is written
-    ex = executor
-    if ex is None and todo:
-        ex = _make_executor(len(todo), workers, scheduler, dask_local)
-    own = executor is None and ex is not None
+    todo: list[RunSpec] = []
+    ex: Executor | None = None
+    own = False
     t0 = time.perf_counter()
     finished_now = 0
 
@@ -299,6 +338,17 @@ def run_sweep(
             )
 
     try:
+        try:
+            (out / RUNS_DIR).mkdir(exist_ok=True)
+        except OSError as exc:
+            raise io_error(out / RUNS_DIR, exc, "create") from exc
+        _clean_partials(out)  # left by a sweep that was interrupted
+        todo = _scan(out, runs, sweep, table, retry_failed)
+        # the executor first: an unreachable scheduler fails before anything is written
+        ex = executor
+        if ex is None and todo:
+            ex = _make_executor(len(todo), workers, scheduler, dask_local)
+        own = executor is None and ex is not None
         _write_resolved(out, sweep, runs, swept)
         table.write()
         log.info("sweep %r: %d runs, %d finished before, %d to run", sweep.spec.name,
@@ -318,12 +368,18 @@ def run_sweep(
                     table.write()
                     progress(task.run_id)
     except KeyboardInterrupt:
-        _clean_partials(out)
+        _clean_after_stop(out, ex)
         done, failed = table.counts()
         raise SweepInterrupted(
             f"interrupted: {done + failed} of {len(runs)} runs finished ({failed} failed; "
             f"{finished_now} in this session); re-running the same command resumes"
         ) from None
+    except SweepIOError as exc:
+        _clean_after_stop(out, ex)
+        done, failed = table.counts()
+        raise exc.with_note(
+            f"the sweep stopped with {done + failed} of {len(runs)} runs finished, which are kept"
+        ) from exc
     finally:
         if own and ex is not None:
             ex.close()
@@ -331,6 +387,13 @@ def run_sweep(
     return SweepReport(out, len(runs), done, failed, len(runs) - len(todo), finished_now,
                        time.perf_counter() - t0, ex.describe() if ex else "nothing to run",
                        table.sorted_rows())  # fmt: skip
+
+
+def _clean_after_stop(out: Path, ex: Executor | None) -> None:
+    """Remove the temporaries of the runs just stopped: local workers are dead by now. A dask
+    cluster's runs go on and write their files: their temporaries are theirs."""
+    if ex is None or isinstance(ex, LocalExecutor | SerialExecutor):
+        _clean_partials(out)
 
 
 def _write_resolved(out: Path, sweep: Sweep, runs: list[RunSpec], swept: list[str]) -> None:
@@ -365,10 +428,13 @@ def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryTable) -> None:
     for message in outcome.get("warnings", ()):
         log.info("%s: %s", run.run_id, message)
     if outcome["status"] == "done":
-        with contextlib.suppress(FileNotFoundError):
-            error_path.unlink()
+        remove(error_path)
         table.record(run, "done", outcome)
         return
+    if outcome.get("storage_error"):  # the run file could not be written: stop the sweep
+        raise SweepIOError(
+            out / run.run_file, outcome["storage_error"], outcome.get("storage_errno")
+        )
     log.info("%s failed: %s", run.run_id, outcome["error"])
     atomic_write_text(error_path, error_text(run, outcome))
     table.record(run, "failed", outcome, outcome["error"])
@@ -378,6 +444,7 @@ __all__ = [
     "SUMMARY_FIELDS",
     "Progress",
     "RunTask",
+    "SweepIOError",
     "SweepInterrupted",
     "SweepReport",
     "execute_run",
