@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, SerialExecutor
 from porenet.sweep.files import SweepIOError
+from porenet.sweep.lock import SweepLocked
 from porenet.sweep.runner import (
     SUMMARY_FIELDS,
     Progress,
@@ -35,6 +36,7 @@ __all__ = [
     "Sweep",
     "SweepIOError",
     "SweepInterrupted",
+    "SweepLocked",
     "SweepReport",
     "SweepSpec",
     "execute_run",

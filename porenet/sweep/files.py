@@ -135,8 +135,9 @@ def read_text(path: Path) -> str:
 def clean_partials(*directories: Path) -> list[Path]:
     """Remove the temporary files (``.*.partial``) that an interrupted or killed sweep left.
 
-    Call it only when no other sweep writes into the directory: another sweep's temporaries
-    are files in the making. Returns the files removed.
+    Only the process that holds the directory's lock may call this (docs/sweeps.md,
+    "The lock"): another sweep's temporaries are files in the making. Returns the files
+    removed.
     """
     removed = []
     for directory in directories:

@@ -10,8 +10,9 @@ Layout of ``DIR`` (docs/sweeps.md)::
 Re-running the same sweep into the same ``DIR`` resumes: runs whose run file reads back with
 the intended scene are not run again, failed runs are not retried unless asked. A run file (or
 error record) whose scene differs from the sweep's is an error: a directory never mixes the
-runs of two different sweeps. The sweep's files are written atomically and an I/O error stops
-it with a message (:mod:`porenet.sweep.files`).
+runs of two different sweeps. One sweep at a time writes into ``DIR``: it holds ``DIR/.lock``
+(:mod:`porenet.sweep.lock`); its files are written atomically and an I/O error stops it with
+a message (:mod:`porenet.sweep.files`).
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ from porenet.sweep.files import (
     remove,
     storage_error,
 )
+from porenet.sweep.lock import DirectoryLock, SweepLocked
 from porenet.sweep.progress import Progress, clock, format_progress
 from porenet.sweep.records import (
     SUMMARY_CSV,
@@ -269,7 +271,8 @@ def run_sweep(
     sweep_file : str, Path or Sweep
         The sweep file (or one loaded with :func:`~porenet.sweep.spec.load_sweep`).
     out_dir : str or Path
-        Output directory, created if needed.
+        Output directory, created if needed. The sweep holds its lock (``out_dir/.lock``)
+        while it runs.
     workers : int, optional
         Local worker processes (default ``os.cpu_count()`` capped at the runs to do), or the
         LocalCluster's workers with ``dask_local``.
@@ -288,6 +291,8 @@ def run_sweep(
     ------
     ConfigError
         Invalid sweep or point (nothing runs), or ``out_dir`` holds runs of another sweep.
+    SweepLocked
+        Another sweep is running in ``out_dir`` (nothing runs); the message names it.
     SweepIOError
         A file of ``out_dir`` cannot be written (a full disk, ...), or a run file cannot be
         written for lack of space: the sweep stops, finished runs are kept.
@@ -303,9 +308,10 @@ def run_sweep(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise io_error(out, exc, "create") from exc
-    return _run_locked(
-        sweep, runs, out, workers, scheduler, dask_local, executor, retry_failed, on_progress
-    )
+    with DirectoryLock(out):
+        return _run_locked(
+            sweep, runs, out, workers, scheduler, dask_local, executor, retry_failed, on_progress
+        )
 
 
 def _run_locked(
@@ -319,7 +325,7 @@ def _run_locked(
     retry_failed: bool,
     on_progress: Callable[[Progress], None] | None,
 ) -> SweepReport:
-    """:func:`run_sweep` once the output directory exists."""
+    """:func:`run_sweep` once it holds the directory's lock."""
     swept = columns(sweep.spec)
     table = SummaryTable(out, runs, swept)
     todo: list[RunSpec] = []
@@ -342,7 +348,7 @@ def _run_locked(
             (out / RUNS_DIR).mkdir(exist_ok=True)
         except OSError as exc:
             raise io_error(out / RUNS_DIR, exc, "create") from exc
-        _clean_partials(out)  # left by a sweep that was interrupted
+        _clean_partials(out)  # left by a sweep that was killed: we hold the lock
         todo = _scan(out, runs, sweep, table, retry_failed)
         # the executor first: an unreachable scheduler fails before anything is written
         ex = executor
@@ -446,6 +452,7 @@ __all__ = [
     "RunTask",
     "SweepIOError",
     "SweepInterrupted",
+    "SweepLocked",
     "SweepReport",
     "execute_run",
     "format_progress",

@@ -125,7 +125,7 @@ def test_a_full_disk_mid_sweep_stops_with_one_message_and_a_whole_summary(
         "p0000-r01.h5",
         "p0000-r02.h5",
     ]
-    assert _partials(out) == []
+    assert _partials(out) == [] and (out / ".lock").read_text() == ""  # released
     monkeypatch.undo()  # space is back
     assert main(["sweep", str(_sweep(tmp_path)), "-o", str(out), "-q", "--workers", "1"]) == 0
     rows = _rows(out)
@@ -139,7 +139,7 @@ def test_a_sweep_json_that_cannot_be_written_leaves_no_summary(tmp_path, monkeyp
     err = capsys.readouterr().err
     assert f"cannot write {out / 'sweep.json'}: {ENOSPC}; the sweep stopped with 0 of 8" in err
     assert "Traceback" not in err
-    assert sorted(p.name for p in out.iterdir()) == ["runs"]  # no summary.csv
+    assert sorted(p.name for p in out.iterdir()) == [".lock", "runs"]  # no summary.csv
     assert list((out / "runs").iterdir()) == []
 
 
@@ -203,7 +203,9 @@ mount -t tmpfs -o size=512k porenet-test "$DISK" || exit 97
 sweep() { "$PY" -m porenet sweep "$SWEEP" -o "$DISK/out" --workers 1 -q; }
 sweep > "$LOG/1.out" 2> "$LOG/1.err"; echo $? > "$LOG/1.rc"
 cp "$DISK/out/summary.csv" "$LOG/summary.before"
+head -c 4096 /dev/zero > "$DISK/reserve"
 dd if=/dev/zero of="$DISK/filler" bs=4096 2> /dev/null
+rm "$DISK/reserve"   # one page left: the lock's details fit in it, sweep.json does not
 sweep > "$LOG/2.out" 2> "$LOG/2.err"; echo $? > "$LOG/2.rc"
 cp "$DISK/out/summary.csv" "$LOG/summary.after"
 ls -A "$DISK/out" "$DISK/out/runs" > "$LOG/2.ls"
