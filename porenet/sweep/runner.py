@@ -21,9 +21,11 @@ import contextlib
 import json
 import logging
 import os
+import signal
+import threading
 import time
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -65,9 +67,35 @@ RUNS_DIR = "runs"
 
 
 class SweepInterrupted(PorenetError):
-    """Ctrl-C during a sweep; the message says how many runs finished."""
+    """Ctrl-C (exit status 130) or SIGTERM (143) during a sweep; the message says how many
+    runs finished."""
 
     exit_status = 130
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that the sweep stops as on Ctrl-C."""
+
+
+@contextlib.contextmanager
+def _sigterm_stops() -> Iterator[None]:
+    """Turn SIGTERM into :class:`_Terminated` while the sweep runs (main thread only, and only
+    if nobody else handles SIGTERM), so that its workers are terminated and its temporaries
+    removed before it exits."""
+    if threading.current_thread() is not threading.main_thread() or (
+        signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
+    ):
+        yield
+        return
+
+    def stop(signum: int, frame: object) -> None:
+        raise _Terminated
+
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 # --------------------------------------------------------------------------- the worker side
@@ -297,7 +325,7 @@ def run_sweep(
         A file of ``out_dir`` cannot be written (a full disk, ...), or a run file cannot be
         written for lack of space: the sweep stops, finished runs are kept.
     SweepInterrupted
-        On Ctrl-C, after stopping the workers; finished runs are kept.
+        On Ctrl-C or SIGTERM, after stopping the workers; finished runs are kept.
     """
     sweep = sweep_file if isinstance(sweep_file, Sweep) else load_sweep(sweep_file)
     runs = expand(sweep)
@@ -308,7 +336,7 @@ def run_sweep(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise io_error(out, exc, "create") from exc
-    with DirectoryLock(out):
+    with DirectoryLock(out), _sigterm_stops():
         return _run_locked(
             sweep, runs, out, workers, scheduler, dask_local, executor, retry_failed, on_progress
         )
@@ -373,13 +401,17 @@ def _run_locked(
                     finished_now += 1
                     table.write()
                     progress(task.run_id)
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         _clean_after_stop(out, ex)
         done, failed = table.counts()
-        raise SweepInterrupted(
-            f"interrupted: {done + failed} of {len(runs)} runs finished ({failed} failed; "
+        what = "terminated (SIGTERM)" if isinstance(exc, _Terminated) else "interrupted"
+        stopped = SweepInterrupted(
+            f"{what}: {done + failed} of {len(runs)} runs finished ({failed} failed; "
             f"{finished_now} in this session); re-running the same command resumes"
-        ) from None
+        )
+        if isinstance(exc, _Terminated):
+            stopped.exit_status = 128 + signal.SIGTERM
+        raise stopped from None
     except SweepIOError as exc:
         _clean_after_stop(out, ex)
         done, failed = table.counts()
