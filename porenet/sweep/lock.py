@@ -174,13 +174,12 @@ def _os_lock(fd: int, path: Path) -> Literal["locked", "busy", "unsupported"]:
 
 def _read_body(fd: int) -> str:
     chunks = []
-    offset = 0
-    while True:
-        chunk = os.pread(fd, 65536, offset) if hasattr(os, "pread") else b""
-        if not chunk:
-            break
-        chunks.append(chunk)
-        offset += len(chunk)
+    try:
+        os.lseek(fd, 0, os.SEEK_SET)
+        while chunk := os.read(fd, 65536):
+            chunks.append(chunk)
+    except OSError:
+        return ""  # unreadable: treated as no details
     return b"".join(chunks).decode("utf-8", errors="replace")
 
 
