@@ -9,6 +9,8 @@ Importing this package loads neither dask nor h5py.
 from __future__ import annotations
 
 from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, SerialExecutor
+from porenet.sweep.files import SweepIOError
+from porenet.sweep.lock import SweepLocked
 from porenet.sweep.runner import (
     SUMMARY_FIELDS,
     Progress,
@@ -32,7 +34,9 @@ __all__ = [
     "RunTask",
     "SerialExecutor",
     "Sweep",
+    "SweepIOError",
     "SweepInterrupted",
+    "SweepLocked",
     "SweepReport",
     "SweepSpec",
     "execute_run",

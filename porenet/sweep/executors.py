@@ -8,6 +8,12 @@ executor: every run is determined by its scene, which carries its seed.
 If the consumer stops iterating early (an exception, Ctrl-C, ``close()``), tasks not yet started
 are cancelled and local worker processes are terminated; a run killed this way leaves no file
 behind under its final name (run files are written atomically).
+
+Local worker processes die with the process that started them, however it ends (``kill -9``
+included): on Linux each worker asks the kernel for ``SIGKILL`` when its parent dies
+(``prctl(PR_SET_PDEATHSIG)``); elsewhere a thread in each worker watches its parent's pid
+(docs/sweeps.md, "When a sweep is stopped or killed"). Workers ignore ``SIGINT``: a Ctrl-C
+reaches the sweep, which terminates them.
 """
 
 from __future__ import annotations
@@ -16,6 +22,10 @@ import concurrent.futures as cf
 import contextlib
 import logging
 import os
+import signal
+import sys
+import threading
+import time
 import uuid
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterable, Iterator
@@ -105,7 +115,10 @@ class LocalExecutor(Executor):
         import multiprocessing
 
         pool = cf.ProcessPoolExecutor(
-            max_workers=self.workers, mp_context=multiprocessing.get_context("spawn")
+            max_workers=self.workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=die_with_parent,
+            initargs=(os.getpid(),),
         )
         finished = False
         try:
@@ -118,6 +131,47 @@ class LocalExecutor(Executor):
             if not finished:  # interrupted: start nothing more, stop what runs
                 _terminate(pool)
             pool.shutdown(wait=True, cancel_futures=True)
+
+
+#: ``prctl`` option: the signal a process gets when its parent dies (linux/prctl.h).
+PR_SET_PDEATHSIG = 1
+
+
+def _parent_death_signal(sig: int) -> bool:
+    """Ask Linux to send ``sig`` to this process when its parent dies; False if not done."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        return int(libc.prctl(PR_SET_PDEATHSIG, int(sig), 0, 0, 0)) == 0
+    except (OSError, AttributeError):
+        return False
+
+
+def _watch_parent(parent_pid: int, interval_s: float = 0.5) -> None:
+    while True:
+        time.sleep(interval_s)
+        if os.getppid() != parent_pid:
+            os._exit(1)
+
+
+def die_with_parent(parent_pid: int) -> None:
+    """Worker initializer: end this process when the process ``parent_pid`` ends.
+
+    On Linux the kernel sends ``SIGKILL`` to the worker when its parent dies (any death,
+    ``kill -9`` included); elsewhere, or if that fails, a daemon thread checks every 0.5 s
+    that the parent is still the one it was. A parent that died before this ran is noticed
+    at once (the worker has been re-parented). ``SIGINT`` is ignored: the sweep handles
+    Ctrl-C and terminates its workers.
+    """
+    with contextlib.suppress(ValueError, OSError):  # not the main thread / no SIGINT here
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if not _parent_death_signal(signal.SIGKILL):
+        threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
+    if os.getppid() != parent_pid:  # the parent died before the kernel was asked
+        os._exit(1)
 
 
 def _terminate(pool: cf.ProcessPoolExecutor) -> None:

@@ -10,52 +10,92 @@ Layout of ``DIR`` (docs/sweeps.md)::
 Re-running the same sweep into the same ``DIR`` resumes: runs whose run file reads back with
 the intended scene are not run again, failed runs are not retried unless asked. A run file (or
 error record) whose scene differs from the sweep's is an error: a directory never mixes the
-runs of two different sweeps.
+runs of two different sweeps. One sweep at a time writes into ``DIR``: it holds ``DIR/.lock``
+(:mod:`porenet.sweep.lock`); its files are written atomically and an I/O error stops it with
+a message (:mod:`porenet.sweep.files`).
 """
 
 from __future__ import annotations
 
 import contextlib
-import csv
 import json
 import logging
 import os
-import tempfile
+import signal
+import threading
 import time
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from porenet._version import __version__
 from porenet.core.errors import ConfigError, PorenetError, RunFileError
-from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, default_workers
+from porenet.sweep.executors import (
+    DaskExecutor,
+    Executor,
+    LocalExecutor,
+    SerialExecutor,
+    default_workers,
+)
+from porenet.sweep.files import (
+    SweepIOError,
+    atomic_write_text,
+    clean_partials,
+    io_error,
+    remove,
+    storage_error,
+)
+from porenet.sweep.lock import DirectoryLock, SweepLocked
+from porenet.sweep.progress import Progress, clock, format_progress
+from porenet.sweep.records import (
+    SUMMARY_CSV,
+    SUMMARY_FIELDS,
+    SummaryTable,
+    error_text,
+    plain,
+    read_error,
+    scene_difference,
+)
 from porenet.sweep.spec import RunSpec, Sweep, columns, expand, load_sweep
 
 log = logging.getLogger(__name__)
 
-#: Values taken from each run's summary into ``summary.csv``.
-SUMMARY_FIELDS = (
-    "fractal_dimension",
-    "fractal_dimension_error",
-    "regime",
-    "regime_confidence",
-    "capillary_number_measured",
-    "wall_time_s",
-)
-
 SWEEP_JSON = "sweep.json"
-SUMMARY_CSV = "summary.csv"
 RUNS_DIR = "runs"
 
 
 class SweepInterrupted(PorenetError):
-    """Ctrl-C during a sweep; the message says how many runs finished."""
+    """Ctrl-C (exit status 130) or SIGTERM (143) during a sweep; the message says how many
+    runs finished."""
 
     exit_status = 130
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that the sweep stops as on Ctrl-C."""
+
+
+@contextlib.contextmanager
+def _sigterm_stops() -> Iterator[None]:
+    """Turn SIGTERM into :class:`_Terminated` while the sweep runs (main thread only, and only
+    if nobody else handles SIGTERM), so that its workers are terminated and its temporaries
+    removed before it exits."""
+    if threading.current_thread() is not threading.main_thread() or (
+        signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
+    ):
+        yield
+        return
+
+    def stop(signum: int, frame: object) -> None:
+        raise _Terminated
+
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 # --------------------------------------------------------------------------- the worker side
@@ -81,10 +121,6 @@ class _Capture(logging.Handler):
             self.messages.append(f"{record.levelname.lower()}: {record.getMessage()}")
 
 
-def _plain(value: Any) -> Any:
-    return value.item() if isinstance(value, np.generic) else value
-
-
 def one_line(exc: BaseException) -> str:
     """``Type: message`` on one line."""
     text = " ".join(str(exc).split())
@@ -97,7 +133,10 @@ def execute_run(task: RunTask) -> dict[str, Any]:
     Returns ``{"status": "done", <SUMMARY_FIELDS>, "task_time_s", "warnings"}`` or
     ``{"status": "failed", "error", "traceback", "wall_time_s", "task_time_s", "warnings"}``.
     The porenet log records of WARNING and above emitted during the run are returned in
-    ``warnings`` instead of being printed by the worker.
+    ``warnings`` instead of being printed by the worker. A failure caused by a full disk, a
+    quota or a read-only file system (:func:`porenet.sweep.files.storage_error`) also has
+    ``storage_errno`` and ``storage_error`` (the system's reason): the sweep stops on it
+    instead of recording the run as failed.
     """
     t0 = time.perf_counter()
     logger = logging.getLogger("porenet")
@@ -110,7 +149,7 @@ def execute_run(task: RunTask) -> dict[str, Any]:
 
         configure_threads("auto", most=task.threads)
         result = run(task.scene, output=task.output)
-        out: dict[str, Any] = {k: _plain(result.summary.get(k)) for k in SUMMARY_FIELDS}
+        out: dict[str, Any] = {k: plain(result.summary.get(k)) for k in SUMMARY_FIELDS}
         out["status"] = "done"
     except Exception as exc:
         out = {
@@ -119,128 +158,15 @@ def execute_run(task: RunTask) -> dict[str, Any]:
             "traceback": traceback.format_exc(),
             "wall_time_s": time.perf_counter() - t0,
         }
+        storage = storage_error(exc)  # a full disk is not the run's failure: it stops the sweep
+        if storage is not None:
+            out["storage_errno"], out["storage_error"] = storage
     finally:
         logger.removeHandler(capture)
         logger.propagate = propagate
     out["task_time_s"] = time.perf_counter() - t0
     out["warnings"] = capture.messages
     return out
-
-
-# --------------------------------------------------------------------------- files
-
-
-def _atomic_write_text(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".partial", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
-def _cell(value: Any) -> str:
-    value = _plain(value)
-    if value is None:
-        return ""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float):
-        return repr(value)
-    if isinstance(value, list | dict):
-        return json.dumps(value)
-    return str(value)
-
-
-def _flatten(data: Any, prefix: str = "") -> dict[str, Any]:
-    if not isinstance(data, dict):
-        return {prefix: data}
-    out: dict[str, Any] = {}
-    for key, value in data.items():
-        out.update(_flatten(value, f"{prefix}.{key}" if prefix else str(key)))
-    return out
-
-
-def scene_difference(recorded: dict[str, Any], intended: dict[str, Any], limit: int = 3) -> str:
-    """The first few dotted keys on which two scenes differ, ``key: old -> new``."""
-    a, b = _flatten(recorded), _flatten(intended)
-    keys = [k for k in dict.fromkeys([*a, *b]) if a.get(k, "<unset>") != b.get(k, "<unset>")]
-    shown = [f"{k}: {a.get(k, '<unset>')!r} -> {b.get(k, '<unset>')!r}" for k in keys[:limit]]
-    more = f" (and {len(keys) - limit} more)" if len(keys) > limit else ""
-    return "; ".join(shown) + more
-
-
-def _error_text(run: RunSpec, outcome: dict[str, Any]) -> str:
-    return (
-        f"{outcome['error']}\n\n{outcome.get('traceback') or ''}\n"
-        f"run_id: {run.run_id}\n"
-        f"wall_time_s: {outcome.get('wall_time_s', float('nan'))!r}\n"
-        f"scene: {json.dumps(run.scene, sort_keys=True)}\n"
-    )
-
-
-def _read_error(path: Path) -> tuple[str, float | None, dict[str, Any] | None]:
-    """Message, wall time and scene of a failed run's error record."""
-    lines = path.read_text(encoding="utf-8").splitlines()
-    message = lines[0] if lines else "failed"
-    wall: float | None = None
-    scene: dict[str, Any] | None = None
-    for line in reversed(lines[-3:]):
-        if line.startswith("scene: "):
-            with contextlib.suppress(ValueError):
-                scene = json.loads(line[len("scene: ") :])
-        elif line.startswith("wall_time_s: "):
-            with contextlib.suppress(ValueError):
-                wall = float(line[len("wall_time_s: ") :])
-    return message, wall, scene
-
-
-# --------------------------------------------------------------------------- progress
-
-
-@dataclass(frozen=True)
-class Progress:
-    """Where a sweep stands (given to ``on_progress`` after every finished run)."""
-
-    total: int  # runs in the sweep
-    done: int  # finished successfully (this session or before)
-    failed: int  # failed (this session or before)
-    to_run: int  # runs this session started with
-    finished_now: int  # of those, finished (done or failed)
-    elapsed_s: float  # since this session's runs started
-    workers: int | None
-    last: str | None = None  # run id just finished
-
-    @property
-    def eta_s(self) -> float | None:
-        """Time left: the mean wall time per run finished this session (as seen from the
-        sweep, i.e. elapsed / finished, which accounts for parallel workers) times the runs
-        left; None before the first run finishes."""
-        if self.finished_now == 0:
-            return None
-        return self.elapsed_s / self.finished_now * (self.to_run - self.finished_now)
-
-
-def _clock(seconds: float) -> str:
-    whole = round(seconds)
-    h, rest = divmod(whole, 3600)
-    m, s = divmod(rest, 60)
-    return f"{h}:{m:02d}:{s:02d}" if h else f"{m:02d}:{s:02d}"
-
-
-def format_progress(p: Progress) -> str:
-    """One line: ``12/36 runs, 1 failed, 00:42 elapsed, ETA 01:30``."""
-    eta = p.eta_s
-    return (
-        f"{p.done + p.failed}/{p.total} runs, {p.failed} failed, {_clock(p.elapsed_s)} elapsed"
-        + (f", ETA {_clock(eta)}" if eta is not None else "")
-    )
 
 
 # --------------------------------------------------------------------------- the sweep
@@ -269,49 +195,15 @@ class SweepReport:
         return (
             f"{self.total} runs: {self.done} done, {self.failed} failed"
             f" ({self.ran} run now, {self.skipped} finished before); "
-            f"{_clock(self.elapsed_s)}; summary {self.summary_path}"
+            f"{clock(self.elapsed_s)}; summary {self.summary_path}"
         )
 
 
-class _Table:
-    """The rows of ``summary.csv`` (finished runs, in run order)."""
-
-    def __init__(self, out_dir: Path, runs: list[RunSpec], swept: list[str]) -> None:
-        self.path = out_dir / SUMMARY_CSV
-        self.order = {run.run_id: i for i, run in enumerate(runs)}
-        self.header = ["run_id", *swept, "seed", "status", *SUMMARY_FIELDS, "run_file", "error"]
-        self.rows: dict[str, dict[str, str]] = {}
-
-    def record(self, run: RunSpec, status: str, values: dict[str, Any], error: str = "") -> None:
-        row = {"run_id": run.run_id}
-        row.update({k: _cell(v) for k, v in run.params.items()})
-        row.update(seed=str(run.seed), status=status)
-        row.update({k: _cell(values.get(k)) for k in SUMMARY_FIELDS})
-        row.update(run_file=run.run_file if status == "done" else "", error=error)
-        self.rows[run.run_id] = row
-
-    def counts(self) -> tuple[int, int]:
-        done = sum(r["status"] == "done" for r in self.rows.values())
-        return done, len(self.rows) - done
-
-    def sorted_rows(self) -> list[dict[str, str]]:
-        return [self.rows[k] for k in sorted(self.rows, key=self.order.__getitem__)]
-
-    def write(self) -> None:
-        import io
-
-        buf = io.StringIO()
-        writer = csv.DictWriter(buf, fieldnames=self.header, lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(self.sorted_rows())
-        _atomic_write_text(self.path, buf.getvalue())
-
-
 def _clean_partials(out_dir: Path) -> None:
-    for directory in (out_dir, out_dir / RUNS_DIR):
-        for tmp in directory.glob(".*.partial"):
-            with contextlib.suppress(OSError):
-                tmp.unlink()
+    """Remove the temporaries of interrupted writes (only while holding the lock)."""
+    removed = clean_partials(out_dir, out_dir / RUNS_DIR)
+    if removed:
+        log.info("removed %d temporary file(s) of an interrupted sweep", len(removed))
 
 
 def _edited(path: Path, run: RunSpec, sweep: Sweep, recorded: dict[str, Any]) -> ConfigError:
@@ -323,7 +215,7 @@ def _edited(path: Path, run: RunSpec, sweep: Sweep, recorded: dict[str, Any]) ->
 
 
 def _scan(
-    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: _Table, retry_failed: bool
+    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: SummaryTable, retry_failed: bool
 ) -> list[RunSpec]:
     """Record finished runs in ``table``; return the runs to do. Refuses foreign files."""
     from porenet.io.runfile import read_run
@@ -353,7 +245,7 @@ def _scan(
                 table.record(run, "done", data.summary)
                 continue
         if error_path.is_file():
-            message, wall, scene = _read_error(error_path)
+            message, wall, scene = read_error(error_path)
             if scene is not None and scene != run.scene:
                 raise _edited(error_path, run, sweep, scene)
             if not retry_failed:
@@ -407,7 +299,8 @@ def run_sweep(
     sweep_file : str, Path or Sweep
         The sweep file (or one loaded with :func:`~porenet.sweep.spec.load_sweep`).
     out_dir : str or Path
-        Output directory, created if needed.
+        Output directory, created if needed. The sweep holds its lock (``out_dir/.lock``)
+        while it runs.
     workers : int, optional
         Local worker processes (default ``os.cpu_count()`` capped at the runs to do), or the
         LocalCluster's workers with ``dask_local``.
@@ -426,24 +319,46 @@ def run_sweep(
     ------
     ConfigError
         Invalid sweep or point (nothing runs), or ``out_dir`` holds runs of another sweep.
+    SweepLocked
+        Another sweep is running in ``out_dir`` (nothing runs); the message names it.
+    SweepIOError
+        A file of ``out_dir`` cannot be written (a full disk, ...), or a run file cannot be
+        written for lack of space: the sweep stops, finished runs are kept.
     SweepInterrupted
-        On Ctrl-C, after stopping the workers; finished runs are kept.
+        On Ctrl-C or SIGTERM, after stopping the workers; finished runs are kept.
     """
     sweep = sweep_file if isinstance(sweep_file, Sweep) else load_sweep(sweep_file)
     runs = expand(sweep)
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ConfigError(f"-o {out}: exists and is not a directory")
-    (out / RUNS_DIR).mkdir(parents=True, exist_ok=True)
-    _clean_partials(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise io_error(out, exc, "create") from exc
+    with DirectoryLock(out), _sigterm_stops():
+        return _run_locked(
+            sweep, runs, out, workers, scheduler, dask_local, executor, retry_failed, on_progress
+        )
+
+
+def _run_locked(
+    sweep: Sweep,
+    runs: list[RunSpec],
+    out: Path,
+    workers: int | None,
+    scheduler: str | None,
+    dask_local: bool,
+    executor: Executor | None,
+    retry_failed: bool,
+    on_progress: Callable[[Progress], None] | None,
+) -> SweepReport:
+    """:func:`run_sweep` once it holds the directory's lock."""
     swept = columns(sweep.spec)
-    table = _Table(out, runs, swept)
-    todo = _scan(out, runs, sweep, table, retry_failed)
-    # the executor first: an unreachable scheduler fails before anything is written
-    ex = executor
-    if ex is None and todo:
-        ex = _make_executor(len(todo), workers, scheduler, dask_local)
-    own = executor is None and ex is not None
+    table = SummaryTable(out, runs, swept)
+    todo: list[RunSpec] = []
+    ex: Executor | None = None
+    own = False
     t0 = time.perf_counter()
     finished_now = 0
 
@@ -457,6 +372,17 @@ def run_sweep(
             )
 
     try:
+        try:
+            (out / RUNS_DIR).mkdir(exist_ok=True)
+        except OSError as exc:
+            raise io_error(out / RUNS_DIR, exc, "create") from exc
+        _clean_partials(out)  # left by a sweep that was killed: we hold the lock
+        todo = _scan(out, runs, sweep, table, retry_failed)
+        # the executor first: an unreachable scheduler fails before anything is written
+        ex = executor
+        if ex is None and todo:
+            ex = _make_executor(len(todo), workers, scheduler, dask_local)
+        own = executor is None and ex is not None
         _write_resolved(out, sweep, runs, swept)
         table.write()
         log.info("sweep %r: %d runs, %d finished before, %d to run", sweep.spec.name,
@@ -475,13 +401,23 @@ def run_sweep(
                     finished_now += 1
                     table.write()
                     progress(task.run_id)
-    except KeyboardInterrupt:
-        _clean_partials(out)
+    except KeyboardInterrupt as exc:
+        _clean_after_stop(out, ex)
         done, failed = table.counts()
-        raise SweepInterrupted(
-            f"interrupted: {done + failed} of {len(runs)} runs finished ({failed} failed; "
+        what = "terminated (SIGTERM)" if isinstance(exc, _Terminated) else "interrupted"
+        stopped = SweepInterrupted(
+            f"{what}: {done + failed} of {len(runs)} runs finished ({failed} failed; "
             f"{finished_now} in this session); re-running the same command resumes"
-        ) from None
+        )
+        if isinstance(exc, _Terminated):
+            stopped.exit_status = 128 + signal.SIGTERM
+        raise stopped from None
+    except SweepIOError as exc:
+        _clean_after_stop(out, ex)
+        done, failed = table.counts()
+        raise exc.with_note(
+            f"the sweep stopped with {done + failed} of {len(runs)} runs finished, which are kept"
+        ) from exc
     finally:
         if own and ex is not None:
             ex.close()
@@ -489,6 +425,13 @@ def run_sweep(
     return SweepReport(out, len(runs), done, failed, len(runs) - len(todo), finished_now,
                        time.perf_counter() - t0, ex.describe() if ex else "nothing to run",
                        table.sorted_rows())  # fmt: skip
+
+
+def _clean_after_stop(out: Path, ex: Executor | None) -> None:
+    """Remove the temporaries of the runs just stopped: local workers are dead by now. A dask
+    cluster's runs go on and write their files: their temporaries are theirs."""
+    if ex is None or isinstance(ex, LocalExecutor | SerialExecutor):
+        _clean_partials(out)
 
 
 def _write_resolved(out: Path, sweep: Sweep, runs: list[RunSpec], swept: list[str]) -> None:
@@ -505,10 +448,10 @@ def _write_resolved(out: Path, sweep: Sweep, runs: list[RunSpec], swept: list[st
             for r in runs
         ],
     }  # fmt: skip
-    _atomic_write_text(out / SWEEP_JSON, json.dumps(resolved, indent=1) + "\n")
+    atomic_write_text(out / SWEEP_JSON, json.dumps(resolved, indent=1) + "\n")
 
 
-def _finish(out: Path, run: RunSpec, outcome: Any, table: _Table) -> None:
+def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryTable) -> None:
     """Record one outcome: a result dict of :func:`execute_run`, or an exception."""
     error_path = out / RUNS_DIR / f"{run.run_id}.error.txt"
     if isinstance(outcome, BaseException) and not isinstance(outcome, Exception):
@@ -523,12 +466,15 @@ def _finish(out: Path, run: RunSpec, outcome: Any, table: _Table) -> None:
     for message in outcome.get("warnings", ()):
         log.info("%s: %s", run.run_id, message)
     if outcome["status"] == "done":
-        with contextlib.suppress(FileNotFoundError):
-            error_path.unlink()
+        remove(error_path)
         table.record(run, "done", outcome)
         return
+    if outcome.get("storage_error"):  # the run file could not be written: stop the sweep
+        raise SweepIOError(
+            out / run.run_file, outcome["storage_error"], outcome.get("storage_errno")
+        )
     log.info("%s failed: %s", run.run_id, outcome["error"])
-    _atomic_write_text(error_path, _error_text(run, outcome))
+    atomic_write_text(error_path, error_text(run, outcome))
     table.record(run, "failed", outcome, outcome["error"])
 
 
@@ -536,7 +482,9 @@ __all__ = [
     "SUMMARY_FIELDS",
     "Progress",
     "RunTask",
+    "SweepIOError",
     "SweepInterrupted",
+    "SweepLocked",
     "SweepReport",
     "execute_run",
     "format_progress",
