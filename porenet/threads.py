@@ -95,7 +95,7 @@ def thread_setting() -> ThreadSetting:
 
 
 def _numba_limit() -> int:
-    from porenet.kernels._jit import thread_limit
+    from porenet.kernels.jit import thread_limit
 
     return thread_limit()
 
@@ -300,6 +300,6 @@ def _median(values: deque[float]) -> float:
 
 
 def _set_kernel_threads(count: int) -> int:
-    from porenet.kernels._jit import set_threads
+    from porenet.kernels.jit import set_threads
 
     return set_threads(count)

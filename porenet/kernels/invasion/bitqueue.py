@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit, trailing_zeros
+from porenet.kernels.jit import njit, trailing_zeros
 
 
 @njit

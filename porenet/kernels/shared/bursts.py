@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 
 
 def burst_sizes(pressure: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

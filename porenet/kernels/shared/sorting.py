@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 
 #: Average insertion moves per value after which :func:`rank_order` gives up (numpy fallback).
 MAX_BUCKET = 64

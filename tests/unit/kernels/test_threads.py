@@ -8,7 +8,7 @@ import sys
 
 import numpy as np
 
-from porenet.kernels._jit import PARALLEL_MIN, set_threads, threads
+from porenet.kernels.jit import PARALLEL_MIN, set_threads, threads
 from porenet.kernels.viscous.diffusion import copy_rows
 
 # A kernel cached by a process that loaded its parallel callee from the cache does not start
