@@ -22,12 +22,19 @@ from pathlib import Path
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 from porenet.kernels.viscous.chebyshev import stage_count, sweep
 from porenet.kernels.viscous.diffusion import grow_where_reached
 from porenet.kernels.viscous.menisci import meniscus_fluxes, undrained_pore
-from porenet.kernels.viscous.rkc import _add_active, _list_candidates, _unlist
-from porenet.kernels.viscous.rkc_step import _scaled_rate, imex_stages, step_error
+from porenet.kernels.viscous.rkc import Slot, _add_active, _list_candidates, _unlist
+from porenet.kernels.viscous.rkc_step import (
+    Stages,
+    StepStart,
+    _scaled_rate,
+    imex_stages,
+    step_error,
+)
+from porenet.kernels.viscous.state import Count, Menisci, Pump, Sweep, Total, new_scratch
 from porenet.kernels.viscous.window import no_window
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -61,13 +68,12 @@ def _box_checks(reps, box, n, p, floor, margin):
 
 
 @njit
-def _listings(reps, h, menisci0, pump0, front, nf, tp, drained, pe, latched, latching, inv_vol,
-              cand, near, win, grid_n, t):  # fmt: skip
+def _listings(reps, h, t, menisci0, pump0, net, cond, flow, front, scratch, latching, win):
     n_on = 0
     for _ in range(reps):
-        n_on = _list_candidates(h, menisci0, pump0, front, nf, tp, drained, pe, latched,
-                                latching, inv_vol, cand, near, win, grid_n, t)  # fmt: skip
-        _unlist(n_on, menisci0[0], menisci0[1], menisci0[3], cand)
+        n_on = _list_candidates(h, t, menisci0, pump0, net, cond, flow, front, scratch,
+                                latching, win)  # fmt: skip
+        _unlist(n_on, menisci0, scratch.candidate)
     return n_on
 
 
@@ -78,12 +84,10 @@ def _scalings(reps, field, f0, out):
 
 
 @njit
-def _stages(reps, h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0, qst,
-            lst, pst, ast, r_ell, moved, win):  # fmt: skip
+def _stages(reps, h, m, field, start, n_on, menisci0, pump0, stages, win):
     k = 0
     for _ in range(reps):
-        k = imex_stages(h, m, field, p, f0, out0, ybuf, rhs, zero, n_on, menisci0, pump0, q0,
-                        qst, lst, pst, ast, r_ell, moved, win)  # fmt: skip
+        k = imex_stages(h, m, field, start, n_on, menisci0, pump0, stages, win)
     return k
 
 
@@ -143,50 +147,52 @@ def main() -> None:
     print(f"n = {args.n}, Ca = {args.ca:g}: {args.drained} drained in "
           f"{time.perf_counter() - t0:.1f} s")  # fmt: skip
     fl = sim.fluid
-    cnt, acc, drained = fl._cnt, fl._acc, sim.state.drained
-    nf, n_thr, n_p = int(cnt[2]), len(fl._pe), len(fl._p)
-    inv_vol = 1.0 / fl._vol
-    p, f0, fnew = fl._p.copy(), np.zeros(n_p), np.zeros(n_p)
-    field = (fl._grid_n, fl._box, cnt[3], fl._act, fl._apos, *fl._csr, fl._g_eff, fl._g_out,
-             inv_vol, fnew, fl._box)  # fmt: skip
-    h = fl._ctrl[0]
+    net, cond, flow, front = fl.network, fl.conductances, fl.flow, fl.front
+    counters, totals, drained = flow.counters, flow.totals, flow.drained
+    nf, n_thr, n_p = int(counters[Count.N_FRONT]), len(cond.area), len(flow.pressure)
+    p, f0, fnew = flow.pressure.copy(), np.zeros(n_p), np.zeros(n_p)
+    field = Sweep(net.grid_n, front.box, counters[Count.N_ACTIVE], front.pores,
+                  front.pore_slot, net.indptr, net.neighbour, net.throat, cond.between,
+                  cond.outlet, net.inverse_volume, fnew, front.box)  # fmt: skip
+    h = fl.rkc.memory[Slot.H]
     m = stage_count(h, fl.spectral_radius)
-    print(f"front {nf} throats, box {fl._box.tolist()}, next step {h:.3g} ({m} stages)")
+    print(f"front {nf} throats, box {front.box.tolist()}, next step {h:.3g} ({m} stages)")
     out0 = sweep(field, p, p, f0, ZERO, f0, True)
-    head = np.full(n_p, -1, dtype=np.int64)
-    cand = np.zeros(n_thr, dtype=np.bool_)
-    near = np.empty(n_thr, dtype=np.int64)
-    menisci0 = (fl._on_t, fl._on_p, np.empty(n_thr), head, np.empty(n_thr, dtype=np.int64), p,
-                f0, fl._vol, fl._g_num, fl._ell, fl._area)  # fmt: skip
-    capacity = fl._capacity + fl._capacity_per_drained * acc[7]
-    pump0 = (fl._control, acc[1], fl._q, capacity, fl._ramp)
-    latched = fl._latched.copy()
-    listing = (h, menisci0, pump0, fl._front, nf, fl._tp, drained, fl._pe, latched,
-               fl.config.meniscus == "latching", inv_vol, cand, near, no_window(),
-               fl._grid_n, acc[0])  # fmt: skip
+    scratch = new_scratch(n_p, n_thr)
+    menisci0 = Menisci(scratch.meniscus_throat, scratch.meniscus_pore, scratch.threshold,
+                       scratch.head, scratch.next_candidate, p, f0, net.volume, cond.meniscus,
+                       flow.meniscus_length, cond.area)  # fmt: skip
+    inj = fl.injection
+    capacity = inj.capacity + inj.capacity_per_drained * totals[Total.DRAINED_PORE_VOLUME]
+    pump0 = Pump(inj.control, totals[Total.INVADING_PRESSURE], inj.rate, capacity,
+                 inj.ramp_rate)  # fmt: skip
+    flow_copy = flow._replace(latched=flow.latched.copy())
+    listing = (h, totals[Total.TIME], menisci0, pump0, net, cond, flow_copy, front, scratch,
+               fl.config.meniscus == "latching", no_window())  # fmt: skip
     sweep_ms = timed("flux sweep (for scale)", _flux_sweeps, field, p, np.zeros(n_p))
     ybuf = np.zeros((3, n_p))
     stage_ms = timed("stage sweep (for scale)", _stage_sweeps, field, ybuf[0], ybuf[1], f0,
                      ybuf[2])  # fmt: skip
-    timed("box check (grow_where_reached)", _box_checks, fl._box, fl._grid_n, p,
+    timed("box check (grow_where_reached)", _box_checks, front.box, net.grid_n, p,
           fl.config.pressure_floor, m + 1)  # fmt: skip
     timed("candidate listing (_list_candidates)", _listings, *listing)
     timed("first stage's increment (_scaled_rate)", _scalings, field, f0, ybuf[2])
     n_on = _list_candidates(*listing)
     q0 = np.zeros(n_thr)
     meniscus_fluxes(fl.dt_stable, n_on, menisci0, pump0, q0)
-    stages = (h, m, field, p, f0, out0, ybuf, np.zeros(n_p), np.zeros(n_p), n_on, menisci0,
-              pump0, q0, np.zeros((3, n_thr)), np.zeros((3, n_thr)), np.zeros(3),
-              np.zeros((3, 2)), np.zeros(n_thr), np.zeros(n_thr, dtype=np.bool_),
-              no_window())  # fmt: skip
-    all_ms = timed(f"imex_stages ({m} stages, for scale)", _stages, *stages, reps=20)
+    stages = Stages(ybuf, np.zeros(n_p), np.zeros(n_p), np.zeros((3, n_thr)),
+                    np.zeros((3, n_thr)), np.zeros(3), np.zeros((3, 2)), np.zeros(n_thr),
+                    np.zeros(n_thr, dtype=np.bool_))  # fmt: skip
+    step = (h, m, field, StepStart(p, f0, out0, q0), n_on, menisci0, pump0, stages, no_window())
+    all_ms = timed(f"imex_stages ({m} stages, for scale)", _stages, *step, reps=20)
     print(f"{'  of which not stage sweeps':44s} {all_ms - (m - 1) * stage_ms:8.4f} ms")
-    k = imex_stages(*stages)
-    ds, pst = ybuf[k].copy(), stages[15]
-    timed("unlisted check over the front", _front_checks, fl._front, nf, fl._tp, drained,
-          cand, pst[k], p, ds, fl._pe)  # fmt: skip
+    k = imex_stages(*step)
+    ds = ybuf[k].copy()
+    timed("unlisted check over the front", _front_checks, front.throats, nf, net.throat_pores,
+          drained, scratch.candidate, stages.invading_pressure[k], p, ds,
+          cond.entry_pressure)  # fmt: skip
     timed("error estimate (sweep + step_error)", _estimates, h, field, ds, f0, fnew,
-          np.zeros(n_p), fl._vol)  # fmt: skip
+          np.zeros(n_p), net.volume)  # fmt: skip
     timed("p += ds (_add_active)", _additions, field, ds, p.copy())
     print(f"flux sweep {sweep_ms:.4f} ms, stage sweep {stage_ms:.4f} ms")
 

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from porenet.kernels.viscous import diffusion
+from porenet.kernels.viscous.state import Sweep
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_kernels import load_baseline
@@ -58,9 +59,9 @@ def main() -> None:
     g, g_out, vol, p, box = inputs(n)
     inv_vol = 1.0 / vol
     new = np.zeros_like(p)
-    current = median_ms(
-        lambda: diffusion.grid_sweep(n, box, box, 0.1, g, g_out, vol, inv_vol, p, new), args.repeat
-    )
+    idx = np.zeros(1, dtype=np.int64)
+    field = Sweep(n, box, 0, idx, idx, idx, idx, idx, g, g_out, inv_vol, new, box)
+    current = median_ms(lambda: diffusion.grid_sweep(field, 0.1, vol, p, new), args.repeat)
     print(f"grid_sweep, n={n}: {current:.3f} ms ({1e6 * current / n**2:.2f} ns per pore)")
     if args.baseline:
         _, sha = load_baseline(args.baseline)

@@ -19,8 +19,9 @@ import time
 
 import numpy as np
 
-from porenet.kernels._jit import PARALLEL_MIN, set_threads
+from porenet.kernels.jit import PARALLEL_MIN, set_threads
 from porenet.kernels.viscous import chebyshev, diffusion
+from porenet.kernels.viscous.state import Sweep
 
 
 def median_us(call, repeat: int) -> float:
@@ -57,6 +58,9 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|")
     for m in args.sizes:
         box = np.array([0, m, 0, m], dtype=np.int64)
+        field = Sweep(n, box, 0, np.zeros(1, np.int64), np.zeros(1, np.int64),
+                      np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(1, np.int64), g,
+                      g_out, inv_vol, np.zeros(n * n), box)  # fmt: skip
         cells = []
         for kernel_name in ("stage", "sweep"):
             results = {}
@@ -65,14 +69,14 @@ def main() -> None:
                 if kernel_name == "stage":
                     kernel = getattr(chebyshev, f"_stage_rows_{name}")
                     partial = np.empty(m)
-                    rest = (g, g_out, inv_vol, y1, y2, f0, coef, out, False, partial)
+                    rest = (y1, y2, f0, coef, out, False, partial)
                 else:
                     kernel = getattr(diffusion, f"_sweep_rows_{name}")
                     partial = np.empty((2, m))
-                    rest = (0.1, g, g_out, vol, inv_vol, y1, out, partial)
+                    rest = (0.1, vol, y1, out, partial)
 
-                def call(kernel=kernel, rest=rest, box=box):
-                    kernel(n, box, box, *rest)
+                def call(kernel=kernel, rest=rest, field=field):
+                    kernel(field, *rest)
 
                 results[name] = (median_us(call, args.repeat), out)
             assert np.array_equal(results["serial"][1], results["parallel"][1])

@@ -73,7 +73,7 @@ def low_ca_sample(sample_steps: int, displaced_volume: float) -> dict:
     wall = time.perf_counter() - t0
     steps = result.summary["time_steps"]
     mean_step = sim.state.time / steps
-    t_breakthrough = displaced_volume / sim.fluid._q
+    t_breakthrough = displaced_volume / sim.fluid.injection_rate
     total_steps = t_breakthrough / mean_step
     return {
         "steps": steps,

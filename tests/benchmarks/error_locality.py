@@ -30,7 +30,8 @@ from porenet.core.errors import ConfigError
 from porenet.kernels.viscous.chebyshev import stage_count, sweep
 from porenet.kernels.viscous.menisci import meniscus_fluxes
 from porenet.kernels.viscous.rkc import _list_candidates
-from porenet.kernels.viscous.rkc_step import imex_stages
+from porenet.kernels.viscous.rkc_step import Stages, StepStart, imex_stages
+from porenet.kernels.viscous.state import Count, Menisci, Pump, Sweep, Total, new_scratch
 from porenet.kernels.viscous.window import no_window
 from porenet.simulation import Simulation
 
@@ -40,35 +41,39 @@ ZERO = (0.0, 0.0, 0.0, 0.0)
 def step_errors(fl, drained: np.ndarray, h: float) -> tuple[np.ndarray, int, int]:
     """Per-pore error estimate of one RKC step of ``h`` from the fluid's state (copies only),
     the stage count and the number of candidate menisci."""
-    cnt, acc = fl._cnt, fl._acc
-    n_thr, n_p = len(fl._pe), len(fl._p)
-    inv_vol = 1.0 / fl._vol
-    p, f0, scratch = fl._p.copy(), np.zeros(n_p), np.zeros(n_p)
-    field = (fl._grid_n, fl._box, cnt[3], fl._act, fl._apos, *fl._csr, fl._g_eff, fl._g_out,
-             inv_vol, scratch, fl._box)  # fmt: skip
+    net, cond, flow, front = fl.network, fl.conductances, fl.flow, fl.front
+    counters, totals = flow.counters, flow.totals
+    n_thr, n_p = len(cond.area), len(flow.pressure)
+    inv_vol = net.inverse_volume
+    p, f0, work = flow.pressure.copy(), np.zeros(n_p), np.zeros(n_p)
+    field = Sweep(net.grid_n, front.box, counters[Count.N_ACTIVE], front.pores,
+                  front.pore_slot, net.indptr, net.neighbour, net.throat, cond.between,
+                  cond.outlet, inv_vol, work, front.box)  # fmt: skip
     m = stage_count(h, fl.spectral_radius)
     out0 = sweep(field, p, p, f0, ZERO, f0, True)
-    head = np.full(n_p, -1, dtype=np.int64)
-    cand, near = np.zeros(n_thr, dtype=np.bool_), np.empty(n_thr, dtype=np.int64)
-    menisci0 = (fl._on_t.copy(), fl._on_p.copy(), np.empty(n_thr), head,
-                np.empty(n_thr, dtype=np.int64), p, f0, fl._vol, fl._g_num, fl._ell.copy(),
-                fl._area)  # fmt: skip
-    capacity = fl._capacity + fl._capacity_per_drained * acc[7]
-    pump0 = (fl._control, acc[1], fl._q, capacity, fl._ramp)
-    n_on = _list_candidates(h, menisci0, pump0, fl._front, int(cnt[2]), fl._tp, drained, fl._pe,
-                            fl._latched.copy(), fl.config.meniscus == "latching", inv_vol, cand,
-                            near, no_window(), fl._grid_n, acc[0])  # fmt: skip
+    scratch = new_scratch(n_p, n_thr)
+    menisci0 = Menisci(scratch.meniscus_throat, scratch.meniscus_pore, scratch.threshold,
+                       scratch.head, scratch.next_candidate, p, f0, net.volume, cond.meniscus,
+                       flow.meniscus_length.copy(), cond.area)  # fmt: skip
+    inj = fl.injection
+    capacity = inj.capacity + inj.capacity_per_drained * totals[Total.DRAINED_PORE_VOLUME]
+    pump0 = Pump(inj.control, totals[Total.INVADING_PRESSURE], inj.rate, capacity,
+                 inj.ramp_rate)  # fmt: skip
+    copy = flow._replace(latched=flow.latched.copy(), meniscus_length=menisci0.length)
+    n_on = _list_candidates(h, totals[Total.TIME], menisci0, pump0, net, cond, copy, front,
+                            scratch, fl.config.meniscus == "latching", no_window())  # fmt: skip
     q0 = np.zeros(n_thr)
     meniscus_fluxes(fl.dt_stable, n_on, menisci0, pump0, q0)
     ybuf = np.zeros((3, n_p))
-    k = imex_stages(h, m, field, p, f0, out0, ybuf, np.zeros(n_p), np.zeros(n_p), n_on,
-                    menisci0, pump0, q0, np.zeros((3, n_thr)), np.zeros((3, n_thr)),
-                    np.zeros(3), np.zeros((3, 2)), np.zeros(n_thr),
-                    np.zeros(n_thr, dtype=np.bool_), no_window())  # fmt: skip
+    stages = Stages(ybuf, np.zeros(n_p), np.zeros(n_p), np.zeros((3, n_thr)),
+                    np.zeros((3, n_thr)), np.zeros(3), np.zeros((3, 2)), np.zeros(n_thr),
+                    np.zeros(n_thr, dtype=np.bool_))  # fmt: skip
+    k = imex_stages(h, m, field, StepStart(p, f0, out0, q0), n_on, menisci0, pump0, stages,
+                    no_window())  # fmt: skip
     ds = ybuf[k].copy()
-    sweep(field, ds, ds, f0, ZERO, scratch, True)  # scratch = L ds
-    err = np.abs(-0.8 * ds + 0.4 * h * (2.0 * f0 + scratch) * inv_vol)
-    err[menisci0[1][:n_on]] = 0.0  # the candidates' pores: implicit, estimated otherwise
+    sweep(field, ds, ds, f0, ZERO, work, True)  # work = L ds
+    err = np.abs(-0.8 * ds + 0.4 * h * (2.0 * f0 + work) * inv_vol)
+    err[menisci0.pore[:n_on]] = 0.0  # the candidates' pores: implicit, estimated otherwise
     return err, m, n_on
 
 
@@ -87,10 +92,11 @@ def main() -> None:
         parser.error(str(exc))
     sim.run()
     fl = sim.fluid
-    n = fl._grid_n
-    last = int(fl._order[int(fl._cnt[0]) - 1])
-    tol = fl.config.tolerance * fl._pressure_scale
-    print(f"n = {args.n}, Ca = {args.ca:g}, {args.drained} drained, t = {fl._acc[0]:.6g}; "
+    n = fl.network.grid_n
+    last = int(fl.records.order[int(fl.flow.counters[Count.EVENTS]) - 1])
+    tol = fl.config.tolerance * fl.pressure_scale
+    t = fl.flow.totals[Total.TIME]
+    print(f"n = {args.n}, Ca = {args.ca:g}, {args.drained} drained, t = {t:.6g}; "
           f"distances from pore {last} ({last // n}, {last % n}), tolerance {tol:.3g}")  # fmt: skip
     print(
         "step h  stages  candidates  max err/tol  over tol: pores, farthest  "

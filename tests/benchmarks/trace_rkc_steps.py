@@ -27,6 +27,8 @@ from bench_implicit import scene
 
 from porenet.builtin.fluids.viscous import MENISCUS_LENGTH
 from porenet.core.errors import ConfigError
+from porenet.kernels.viscous.rkc import Slot
+from porenet.kernels.viscous.state import Count, Total
 from porenet.simulation import Simulation
 
 
@@ -37,18 +39,21 @@ def trace(n: int, ca: float, drained: int, tolerance: float | None) -> np.ndarra
     fluid = sim.fluid
     fluid.step_limit = 1
     rows = []
-    advance = fluid._rkc_advance
+    advance = fluid.rkc_steps
 
-    def one_step(state, budget, t_end):
-        ctrl, t0 = fluid._ctrl.copy(), fluid._acc[0]
-        partial = int(np.count_nonzero(fluid._ell < MENISCUS_LENGTH * (1 - 1e-12)))
-        status = advance(state, budget, t_end)
-        c = fluid._ctrl
-        rows.append((t0, fluid._acc[0], c[1] - ctrl[1], c[4] - ctrl[4], c[3] - ctrl[3], c[6],
-                     partial, fluid._cnt[0]))  # fmt: skip
+    def one_step(budget, t_end, *args, **kwargs):
+        memory, totals = fluid.rkc.memory, fluid.flow.totals
+        before, t0 = memory.copy(), totals[Total.TIME]
+        ell = fluid.flow.meniscus_length
+        partial = int(np.count_nonzero(ell < MENISCUS_LENGTH * (1 - 1e-12)))
+        status = advance(budget, t_end, *args, **kwargs)
+        rows.append((t0, totals[Total.TIME], memory[Slot.STAGES] - before[Slot.STAGES],
+                     memory[Slot.EXPLICIT_STEPS] - before[Slot.EXPLICIT_STEPS],
+                     memory[Slot.REJECTED] - before[Slot.REJECTED], memory[Slot.LAST_ERROR],
+                     partial, fluid.flow.counters[Count.EVENTS]))  # fmt: skip
         return status
 
-    fluid._rkc_advance = one_step
+    fluid.rkc_steps = one_step
     sim.run()
     return np.array(rows)
 

@@ -3,8 +3,8 @@ exact landings, agreement with a tight explicit run, the invasion-percolation li
 that does not grow like 1/Ca, hard corners, determinism.
 
 Backward Euler over all undrained pores with sliding menisci and located events
-(:mod:`porenet.kernels.viscous.implicit`). Scenes are small (n <= 30) so that the file runs in well
-under a minute; the helpers are those of ``test_viscous_physics.py``.
+(:mod:`porenet.builtin.fluids.implicit_steps`). Scenes are small (n <= 30) so that the file runs in
+well under a minute; the helpers are those of ``test_viscous_physics.py``.
 """
 
 from __future__ import annotations

@@ -90,8 +90,8 @@ def test_same_pattern_and_times_as_single_rate_steps(case):
     t, t_ref = result.data.invasion_time, ref.data.invasion_time
     np.testing.assert_allclose(t, t_ref, rtol=0, atol=1e-3 * t_ref[-1])
     undrained = ~(result.data.drained | ref.data.drained)
-    scale = sim.fluid._pressure_scale * sim.fluid.config.tolerance
-    dp = np.abs(sim.fluid._p - ref_sim.fluid._p)[undrained].max()
+    scale = sim.fluid.pressure_scale * sim.fluid.config.tolerance
+    dp = np.abs(sim.fluid.flow.pressure - ref_sim.fluid.flow.pressure)[undrained].max()
     assert dp < scale
 
 
@@ -163,7 +163,7 @@ def test_same_scene_same_run():
     (sim_a, a), (sim_b, b) = simulate(sc), simulate(sc)
     np.testing.assert_array_equal(a.data.order, b.data.order)
     np.testing.assert_array_equal(a.data.invasion_time, b.data.invasion_time)
-    np.testing.assert_array_equal(sim_a.fluid._p, sim_b.fluid._p)
+    np.testing.assert_array_equal(sim_a.fluid.flow.pressure, sim_b.fluid.flow.pressure)
     assert a.summary["macro_steps"] == b.summary["macro_steps"] > 0
 
 
@@ -195,5 +195,5 @@ def test_results_do_not_depend_on_the_threads():
         configure_threads("auto" if before.adaptive else before.most, most=before.most)
     np.testing.assert_array_equal(one.data.order, two.data.order)
     np.testing.assert_array_equal(one.data.invasion_time, two.data.invasion_time)
-    np.testing.assert_array_equal(sim_1.fluid._p, sim_2.fluid._p)
+    np.testing.assert_array_equal(sim_1.fluid.flow.pressure, sim_2.fluid.flow.pressure)
     assert sim_1.fluid.volumes() == sim_2.fluid.volumes()

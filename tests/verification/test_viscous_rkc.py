@@ -253,7 +253,7 @@ def test_generic_lattice_runs_and_matches_the_grid():
         sim = Simulation.from_scene(sc, registry=registry)
         results[kind] = (sim, sim.run())
     listed, square = results["test.listed"], results["square"]
-    assert listed[0].fluid._grid_n == 0 and square[0].fluid._grid_n > 0
+    assert listed[0].fluid.network.grid_n == 0 and square[0].fluid.network.grid_n > 0
     np.testing.assert_array_equal(listed[1].data.drained, square[1].data.drained)
     t_l, t_s = listed[1].data.invasion_time[-1], square[1].data.invasion_time[-1]
     assert abs(t_l / t_s - 1) < 1e-3

@@ -31,15 +31,37 @@ docs/performance.md and docs/accuracy.md):
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
 from porenet.core.errors import NumericalError
-from porenet.kernels.viscous import multirate as mk
+from porenet.kernels.viscous import multirate
 from porenet.kernels.viscous.chebyshev import MAX_STAGES, longest_step, stage_count
 from porenet.kernels.viscous.diffusion import grow_where_reached
-from porenet.kernels.viscous.window import CUT, CUT_FAR_MENISCUS, FINE, RING_COARSE, window_arrays
+from porenet.kernels.viscous.state import (
+    Column,
+    Conductances,
+    Count,
+    Flow,
+    Front,
+    Menisci,
+    Network,
+    Pump,
+    Records,
+    Status,
+    Sweep,
+    Total,
+)
+from porenet.kernels.viscous.window import (
+    Cut,
+    Mode,
+    Ring,
+    Window,
+    WindowFloat,
+    WindowInt,
+    window_arrays,
+)
 from porenet.kernels.viscous.window import box_area as _area
 
 #: Candidate windows of a coarse step: their reach beyond the hot pores, as multiples of the
@@ -52,9 +74,45 @@ STATS = ("macro_steps", "macro_cuts", "single_rate_pores", "single_rate_sweeps",
          "coarse_pore_stages")  # fmt: skip
 
 
+class RkcModel(Protocol):
+    """What :class:`LocalSteps` uses of the viscous model it steps (implemented by
+    :class:`porenet.builtin.fluids.viscous.ViscousDrainage`): the kernels' named state
+    (:mod:`porenet.kernels.viscous.state`), a few numbers, and four methods. Nothing else."""
+
+    config: Any  #: the fluid's config (tolerance, pressure_floor, max_steps, meniscus)
+    network: Network
+    conductances: Conductances
+    flow: Flow
+    front: Front
+    records: Records
+    rkc: Any  #: :class:`porenet.kernels.viscous.rkc.Rkc` (buffers F_E, stages, zeros)
+    pressure_scale: float  #: the unit of the tolerance (gamma / a)
+
+    @property
+    def injection_rate(self) -> float: ...
+
+    @property
+    def spectral_radius(self) -> float: ...
+
+    def rkc_steps(
+        self,
+        budget: int,
+        t_end: float,
+        step_budget: int | None = None,
+        window: Window | None = None,
+        window_front: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    ) -> int: ...
+
+    def rates_changed(self) -> None: ...
+
+    def no_menisci(self) -> tuple[Menisci, Pump]: ...
+
+    def rkc_sweeps(self) -> float: ...
+
+
 class LocalSteps:
-    """Local time stepping for a :class:`porenet.builtin.fluids.viscous.ViscousDrainage` run
-    with the RKC integrator on a square grid under rate control."""
+    """Local time stepping for a viscous model (an :class:`RkcModel`) run with the RKC
+    integrator on a square grid under rate control."""
 
     #: Largest share of the active box a window may cover before ``H`` is halved.
     max_share = 0.5
@@ -77,28 +135,27 @@ class LocalSteps:
     gain = 0.8
     min_box = 40_000
 
-    def __init__(self, fluid: Any, window_tolerance: float, always: bool = False) -> None:
+    def __init__(self, fluid: RkcModel, window_tolerance: float, always: bool = False) -> None:
         self.fluid = fluid
         self.window_tolerance = window_tolerance
         #: ``local_steps = "on"``: macro steps on active boxes of any size (where the cost
         #: model predicts a gain).
         self.always = always
-        n = fluid._grid_n
+        n = fluid.network.grid_n
         self.n = n
         n_pores = n * n
-        n_throats = len(fluid._pe)
-        self.win = window_arrays(FINE, 4 * n * (len(LEVELS) + 1), n_pores, n_throats)
+        n_throats = len(fluid.conductances.area)
+        self.win = window_arrays(Mode.FINE, 4 * n * (len(LEVELS) + 1), n_pores, n_throats)
         #: The window's own front (its menisci) and their slots, and counters, for the fine
         #: integration (:func:`porenet.kernels.viscous.multirate.split_front`).
         self._wfront = np.zeros(n_throats, dtype=np.int64)
         self._wfpos = np.full(n_throats, -1, dtype=np.int64)
         self._p1 = np.zeros(n_pores)
         self._scratch = np.zeros(n_pores)
-        self._inv_vol = 1.0 / fluid._vol  # pore volumes do not change: no coupled solid
         self._ebox = np.zeros(4, dtype=np.int64)
         self._hot_time: list[float] = []
         self._hot_pore: list[int] = []
-        self.H = 2.8 * float(np.mean(fluid._vol)) / fluid._q
+        self.H = 2.8 * float(np.mean(fluid.network.volume)) / fluid.injection_rate
         self._fine_rate: float | None = None
         self._reach = 0.0  # how far the last window reached beyond its hot pores, per sqrt(H)
         self._kappa = 0.5  # the least reach, per sqrt(H rho) (see _floor)
@@ -110,23 +167,27 @@ class LocalSteps:
         self._single_span = 0.0
         self.last: dict[str, Any] = {}  # the last macro step, for diagnostics
 
-    def _field(self, box: np.ndarray) -> tuple:
-        """The sweep tuple of :func:`porenet.kernels.viscous.chebyshev.sweep` over ``box``."""
+    def sweep_field(self, box: np.ndarray) -> Sweep:
+        """What a sweep over ``box`` reads (:func:`porenet.kernels.viscous.chebyshev.sweep`)."""
         f = self.fluid
-        return (f._grid_n, box, int(f._cnt[3]), f._act, f._apos, *f._csr, f._g_eff, f._g_out,
-                self._inv_vol, self._scratch, box)  # fmt: skip
+        net, cond, front = f.network, f.conductances, f.front
+        return Sweep(net.grid_n, box, int(f.flow.counters[Count.N_ACTIVE]), front.pores,
+                     front.pore_slot, net.indptr, net.neighbour, net.throat, cond.between,
+                     cond.outlet, net.inverse_volume, self._scratch, box)  # fmt: skip
 
     # -- where -----------------------------------------------------------------------------
     def _menisci(self, drained: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The frontier throats, their undrained pores and how far each is below its
         threshold (``<= 0``: at or above it; latched menisci count as at it)."""
         f = self.fluid
-        front = f._front[: int(f._cnt[2])]
-        a, b = f._tp[front, 0], f._tp[front, 1]
+        flow, tp = f.flow, f.network.throat_pores
+        front = f.front.throats[: int(flow.counters[Count.N_FRONT])]
+        a, b = tp[front, 0], tp[front, 1]
         pore = np.where(drained[a], b, a)
-        gap = f._pe[front] * (1.0 - 1e-9) - (f._acc[1] - f._p[pore])
+        pinv = flow.totals[Total.INVADING_PRESSURE]
+        gap = f.conductances.entry_pressure[front] * (1.0 - 1e-9) - (pinv - flow.pressure[pore])
         if f.config.meniscus == "latching":
-            gap = np.where(f._latched[front], -1.0, gap)
+            gap = np.where(flow.latched[front], -1.0, gap)
         return front, pore, gap
 
     def _hot_box(self, drained: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -134,7 +195,7 @@ class LocalSteps:
         step's sources: the pump's rate shared among the pores of the menisci at their
         threshold, or given to the pore of the one nearest to it."""
         f, n = self.fluid, self.n
-        t = float(f._acc[0])
+        t = float(f.flow.totals[Total.TIME])
         horizon = t - self.memory * self.H
         keep = [k for k, s in enumerate(self._hot_time) if s >= horizon]
         self._hot_time = [self._hot_time[k] for k in keep]
@@ -143,16 +204,16 @@ class LocalSteps:
         sources = np.unique(pore[gap <= 0])
         if sources.size == 0 and pore.size:
             sources = pore[np.argmin(gap)][None]
-        last = f._order[int(f._cnt[0]) - 1 :][:1]
+        last = f.records.order[int(f.flow.counters[Count.EVENTS]) - 1 :][:1]
         pores = np.concatenate([np.array(self._hot_pore, dtype=np.int64), sources, last])
         rows, cols = pores // n, pores % n
         box = np.array([rows.min(), rows.max() + 1, cols.min(), cols.max() + 1], dtype=np.int64)
-        rates = np.full(sources.size, f._q / max(sources.size, 1))
+        rates = np.full(sources.size, f.injection_rate / max(sources.size, 1))
         return box, sources.astype(np.int64), rates
 
     def _grown(self, hot: np.ndarray, reach: int) -> np.ndarray:
         """The hot box widened by ``reach`` pores, in the active box."""
-        nbox = self.fluid._box
+        nbox = self.fluid.front.box
         return np.array(
             [
                 max(hot[0] - reach, nbox[0]),
@@ -187,48 +248,51 @@ class LocalSteps:
     # -- one call ---------------------------------------------------------------------------
     def advance(self, state: Any, budget: int, t_end: float, step_chunk: int) -> int:
         """Drain up to ``budget`` pores (or take about ``step_chunk`` fine steps) in macro
-        steps; returns a :data:`porenet.kernels.viscous.explicit.STATUS` code."""
-        f = self.fluid
-        events0, steps0 = int(f._cnt[0]), int(f._cnt[1])
+        steps; returns a :class:`~porenet.kernels.viscous.state.Status`."""
+        counters, totals = self.fluid.flow.counters, self.fluid.flow.totals
+        events0, steps0 = int(counters[Count.EVENTS]), int(counters[Count.STEPS])
         while True:
-            done = int(f._cnt[0]) - events0
-            if done >= budget or int(f._cnt[1]) - steps0 >= step_chunk:
-                return 0
-            if f._acc[0] >= t_end:
-                return 2
+            done = int(counters[Count.EVENTS]) - events0
+            if done >= budget or int(counters[Count.STEPS]) - steps0 >= step_chunk:
+                return Status.BUDGET
+            if totals[Total.TIME] >= t_end:
+                return Status.END_TIME
             # a macro step is never cut by ``step_chunk``; a pore drained at a single rate is
             # finished first if the last call ended inside it: where calls end changes nothing
             status = None if self._single_open else self._macro_step(state, budget - done, t_end)
             if status is None:  # no window worth it: one pore at a single rate
-                left = step_chunk - (int(f._cnt[1]) - steps0)
+                left = step_chunk - (int(counters[Count.STEPS]) - steps0)
                 status = self._single_rate(state, t_end, left)
-                if status != 0:
+                if status != Status.BUDGET:
                     return status
                 continue
-            if status == CUT or (status == 2 and f._acc[0] < t_end):
+            if status == Status.CUT or (status == Status.END_TIME and totals[Total.TIME] < t_end):
                 continue
-            if status != 0:
+            if status != Status.BUDGET:
                 return status
 
     def _single_rate(self, state: Any, t_end: float, step_budget: int) -> int:
         """Single-rate RKC steps until a pore drains (or ``step_budget`` steps, after which
         the next call goes on with this pore: :attr:`_single_open`)."""
         f = self.fluid
-        before, t_before = int(f._cnt[0]), float(f._acc[0])
-        sweeps = f._ctrl[1] + f._ctrl[4]
-        status = f._rkc_single(state, 1, t_end, step_budget=step_budget)
-        sweeps = f._ctrl[1] + f._ctrl[4] - sweeps
-        self._single_open = status == 0 and int(f._cnt[0]) == before
+        counters, totals = f.flow.counters, f.flow.totals
+        before, t_before = int(counters[Count.EVENTS]), float(totals[Total.TIME])
+        sweeps = f.rkc_sweeps()
+        status = f.rkc_steps(1, t_end, step_budget)
+        sweeps = f.rkc_sweeps() - sweeps
+        self._single_open = status == Status.BUDGET and int(counters[Count.EVENTS]) == before
         self._single_sweeps += sweeps
-        self._single_span += float(f._acc[0]) - t_before
+        self._single_span += float(totals[Total.TIME]) - t_before
         self.stats["single_rate_sweeps"] += int(sweeps)
-        self.stats["single_rate_pores"] += int(f._cnt[0]) - before
+        self.stats["single_rate_pores"] += int(counters[Count.EVENTS]) - before
         self._note_drained(before)
         if not self._single_open:
             self._learn_fine_rate(self._single_sweeps, self._single_span)
             self._single_sweeps = self._single_span = 0.0
             # the next macro step starts from at least twice the step RKC is taking
-            self.H = max(self.H, 2.0 * f._ctrl[0])
+            from porenet.kernels.viscous.rkc import Slot
+
+            self.H = max(self.H, 2.0 * f.rkc.memory[Slot.H])
         return status
 
     def _coarse(self, state: Any, t_end: float) -> tuple[float, np.ndarray, np.ndarray] | None:
@@ -240,23 +304,24 @@ class LocalSteps:
         tolerance with :attr:`error_margin` to spare is kept, and the step is redone with
         larger ones when none does."""
         f, n, win = self.fluid, self.n, self.win
-        wi, ring_i = win[0], win[3]
-        tol = f.config.tolerance * f._pressure_scale
+        wi, ring_i = win.ints, win.ring_index
+        flow = f.flow
+        tol = f.config.tolerance * f.pressure_scale
         rho = f.spectral_radius
-        menisci0, pump0 = f._no_menisci()
+        menisci0, pump0 = f.no_menisci()
         hot, sources, rates = self._hot_box(state.drained)
         planned = self._plan(hot)
         if planned is None:
             return None
         f.rates_changed()  # the coarse steps grow the box and use F_E's buffers as scratch
-        h = min(planned, t_end - float(f._acc[0]), longest_step(MAX_STAGES, rho))
+        h = min(planned, t_end - float(flow.totals[Total.TIME]), longest_step(MAX_STAGES, rho))
         least = 0
         for _attempt in range(self.max_attempts):
             m = stage_count(h, rho)
             if m < self.min_stages:
                 return None
-            nbox = f._box
-            grow_where_reached(nbox, n, f._p, f.config.pressure_floor, m + 1)
+            nbox = f.front.box
+            grow_where_reached(nbox, n, flow.pressure, f.config.pressure_floor, m + 1)
             limit = self.max_share * _area(nbox)
             floor = self._floor(h)
             base = max(self._predicted_reach(h), least, floor)
@@ -275,20 +340,27 @@ class LocalSteps:
                 continue
             starts = [0]
             for box in boxes:
-                starts.append(starts[-1] + mk.window_ring(n, box, nbox, ring_i[:, starts[-1] :]))
-            wi[2] = starts[-1]
-            wi[5] = mk.outlet_links(n, nbox, f._g_out, ring_i, wi[2])
-            win[2][:] = boxes[-1]
-            field = self._field(nbox)
-            outflow = mk.coarse_step(
-                field, f._p, win, h, m, sources, rates, f._ybuf, f._f0, f._fnew, f._zero,
-                self._p1, menisci0, pump0, self.window_tolerance * tol, self._ebox,
+                starts.append(
+                    starts[-1] + multirate.window_ring(n, box, nbox, ring_i[:, starts[-1] :])
+                )
+            wi[WindowInt.N_RING] = starts[-1]
+            wi[WindowInt.N_OUTLET] = multirate.outlet_links(
+                n, nbox, f.conductances.outlet, ring_i, wi[WindowInt.N_RING]
+            )
+            win.box[:] = boxes[-1]
+            field = self.sweep_field(nbox)
+            step = multirate.CoarseStep(h, m, sources, rates, menisci0, pump0,
+                                        self.window_tolerance * tol)  # fmt: skip
+            outflow = multirate.coarse_step(
+                field, flow.pressure, win, step, f.rkc.stages, f.rkc.f0, f.rkc.fnew,
+                f.rkc.zero, self._p1, self._ebox,
             )  # fmt: skip
             if not math.isfinite(outflow):
                 raise NumericalError(
                     f"viscous model (local time steps): non-finite coarse step at "
-                    f"t = {f._acc[0]:g} (scaled) after {int(f._cnt[1])} steps and "
-                    f"{int(f._cnt[0])} drained pores"
+                    f"t = {flow.totals[Total.TIME]:g} (scaled) after "
+                    f"{int(flow.counters[Count.STEPS])} steps and "
+                    f"{int(flow.counters[Count.EVENTS])} drained pores"
                 )
             self.stats["coarse_stage_sweeps"] += m
             self.stats["coarse_pore_stages"] += m * _area(nbox)
@@ -303,8 +375,9 @@ class LocalSteps:
                     and box[2] <= want[2]
                     and (box[3] >= want[3])
                 ):
-                    self._keep_ring(starts[k], starts[k + 1], wi[2], wi[2] + wi[5])
-                    win[2][:] = box
+                    n_ring, n_outlet = wi[WindowInt.N_RING], wi[WindowInt.N_OUTLET]
+                    self._keep_ring(starts[k], starts[k + 1], n_ring, n_ring + n_outlet)
+                    win.box[:] = box
                     return h, box, hot
             self.stats["coarse_rejected_steps"] += 1
             if _area(want) > limit:
@@ -317,73 +390,81 @@ class LocalSteps:
     def _keep_ring(self, lo: int, hi: int, out_lo: int, out_hi: int) -> None:
         """Keep the ring entries ``[lo, hi)`` of the chosen window and the outlet links
         ``[out_lo, out_hi)`` after them, with their coarse volumes."""
-        wi, ring_i, ring_f = self.win[0], self.win[3], self.win[4]
+        win = self.win
+        ring_i, ring_f = win.ring_index, win.ring_value
         keep = np.r_[lo:hi, out_lo:out_hi]
         ring_i[:, : keep.size] = ring_i[:, keep]
-        ring_f[RING_COARSE, : keep.size] = ring_f[RING_COARSE, keep]
-        wi[2] = hi - lo
-        wi[5] = out_hi - out_lo
+        ring_f[Ring.COARSE, : keep.size] = ring_f[Ring.COARSE, keep]
+        win.ints[WindowInt.N_RING] = hi - lo
+        win.ints[WindowInt.N_OUTLET] = out_hi - out_lo
 
     def _macro_step(self, state: Any, budget: int, t_end: float) -> int | None:
         f, win = self.fluid, self.win
-        wi = win[0]
-        t0 = float(f._acc[0])
+        wi = win.ints
+        flow, counters, totals = f.flow, f.flow.counters, f.flow.totals
+        t0 = float(totals[Total.TIME])
         coarse = self._coarse(state, t_end)
         if coarse is None:
             return None
         h, wbox, hot = coarse
-        nbox = f._box
+        nbox = f.front.box
         # a pore that drains within half the hot pores' distance to an open edge ends it
         gaps = [hot[0] - wbox[0], wbox[1] - hot[1], hot[2] - wbox[2], wbox[3] - hot[3]]
-        wi[1] = max(2, min(gaps) // 2)
-        wi[3] = wi[4] = -1
-        field = self._field(nbox)
-        mk.start_fine(win, f._p, self._p1, field, t0, h)
+        wi[WindowInt.MARGIN] = max(2, min(gaps) // 2)
+        wi[WindowInt.CUT_REASON] = wi[WindowInt.CUT_PORE] = -1
+        field = self.sweep_field(nbox)
+        multirate.start_fine(win, flow.pressure, self._p1, field, t0, h)
         drained = state.drained
-        n_w, wi[6] = mk.split_front(self.n, wbox, f._front, int(f._cnt[2]), f._tp, drained,
-                                    self._wfront, self._wfpos, win[7])  # fmt: skip
-        win[1][1] = mk.far_level(win[7], wi[6], f._tp, drained, f._pe, win[5], win[6], h)
-        inside = self._wfront[:n_w].copy()
-        ell_before = f._ell[inside].copy()
-        events0 = int(f._cnt[0])
-        stages0, explicit0 = f._ctrl[1], f._ctrl[4]
-        cnt = f._cnt.copy()
-        cnt[2] = n_w
-        status = f._rkc_single(
-            state, budget, t0 + h, wbox, win, (self._wfront, self._wfpos, cnt),
-            step_budget=f.config.max_steps,
+        tp, entry = f.network.throat_pores, f.conductances.entry_pressure
+        n_w, wi[WindowInt.N_FAR] = multirate.split_front(
+            self.n, wbox, f.front.throats, int(counters[Count.N_FRONT]), tp, drained,
+            self._wfront, self._wfpos, win.far,
         )  # fmt: skip
-        f._cnt[[0, 1, 3, 4, 5]] = cnt[[0, 1, 3, 4, 5]]
-        mk.merge_front(f._order, events0, int(cnt[0]), *f._csr, drained, f._front, f._fpos,
-                       f._cnt, self._wfront, int(cnt[2]), self._wfpos)  # fmt: skip
-        if status == 5 and f._cnt[2] > 0:
-            status = CUT  # the window's menisci are gone, not all of them
-        t_e = float(f._acc[0])
-        theta = (t_e - t0) / h
-        stored, far_out, reflux = mk.far_update(
-            field, f._p, self._p1, f._vol, state.drained, win, theta
+        win.floats[WindowFloat.FAR_LEVEL] = multirate.far_level(
+            win.far, wi[WindowInt.N_FAR], tp, drained, entry, win.p0, win.rate, h
         )
-        f._acc[4] += stored
-        f._acc[5] += far_out
-        f._acc[11] = 0.0
+        inside = self._wfront[:n_w].copy()
+        ell_before = flow.meniscus_length[inside].copy()
+        events0 = int(counters[Count.EVENTS])
+        sweeps0 = f.rkc_sweeps()
+        # the window's own counters: its front is the window's menisci
+        window_counters = counters.copy()
+        window_counters[Count.N_FRONT] = n_w
+        status = f.rkc_steps(budget, t0 + h, f.config.max_steps, win,
+                             (self._wfront, self._wfpos, window_counters))  # fmt: skip
+        shared = [Count.EVENTS, Count.STEPS, Count.N_ACTIVE, Count.WHERE, Count.BREAKTHROUGH]
+        counters[shared] = window_counters[shared]
+        drained_now = f.records.order[events0 : int(window_counters[Count.EVENTS])]
+        multirate.merge_front(f.network, drained, f.front, counters, drained_now, self._wfront,
+                              self._wfpos, int(window_counters[Count.N_FRONT]))  # fmt: skip
+        if status == Status.NO_MENISCUS and counters[Count.N_FRONT] > 0:
+            status = Status.CUT  # the window's menisci are gone, not all of them
+        t_e = float(totals[Total.TIME])
+        theta = (t_e - t0) / h
+        stored, far_out, reflux = multirate.far_update(
+            field, flow.pressure, self._p1, f.network.volume, state.drained, win, theta
+        )
+        totals[Total.STORED_DEFENDER] += stored
+        totals[Total.OUTFLOW] += far_out
+        totals[Total.IN_TRANSIT] = 0.0
         w_pores = _area(wbox)
-        fine = f._ctrl[1] - stages0 + f._ctrl[4] - explicit0
+        fine = f.rkc_sweeps() - sweeps0
         self.stats["window_pore_stages"] += int(fine * w_pores)
         self.stats["macro_steps"] += 1
         self._note_drained(events0)
-        moved = inside[f._ell[inside] != ell_before]
+        moved = inside[flow.meniscus_length[inside] != ell_before]
         if moved.size:
-            self._hot(t_e, f._tp[moved, 0], f._tp[moved, 1], state.drained)
-        if status == CUT:
+            self._hot(t_e, tp[moved, 0], tp[moved, 1], state.drained)
+        if status == Status.CUT:
             self.stats["macro_cuts"] += 1
-            if wi[3] == CUT_FAR_MENISCUS:
+            if wi[WindowInt.CUT_REASON] == Cut.FAR_MENISCUS:
                 self._hot_time.append(t_e)
-                self._hot_pore.append(int(wi[4]))
+                self._hot_pore.append(int(wi[WindowInt.CUT_PORE]))
         self._learn_fine_rate(fine, t_e - t0)
         # the window's least reach follows the refluxed change (kept between a quarter and
         # all of reflux_fraction of the tolerance); next H: at most twice this one and what
         # the refluxed change (~ H^2) allows, the cheapest length below that
-        tol = f.config.tolerance * f._pressure_scale
+        tol = f.config.tolerance * f.pressure_scale
         if reflux > self.reflux_fraction * tol:
             self._kappa = min(self._kappa * 1.25, 4.0)
         elif reflux < 0.25 * self.reflux_fraction * tol:
@@ -419,7 +500,7 @@ class LocalSteps:
         f = self.fluid
         if self._fine_rate is None:
             return cap, math.inf
-        nbox = f._box
+        nbox = f.front.box
         n_rows, n_cols = int(nbox[1] - nbox[0]), int(nbox[3] - nbox[2])
         rho = f.spectral_radius
         best, best_cost = cap, math.inf
@@ -442,7 +523,7 @@ class LocalSteps:
         is predicted to cost more than :attr:`gain` times single-rate steps over the whole
         active box, or the active box is smaller than :attr:`min_box` (unless ``on``)."""
         f = self.fluid
-        nbox = f._box
+        nbox = f.front.box
         area = _area(nbox)
         if area < self.min_box and not self.always:
             return None
@@ -459,7 +540,7 @@ class LocalSteps:
 
     def _note_drained(self, since: int) -> None:
         f = self.fluid
-        k = int(f._cnt[0])
+        k = int(f.flow.counters[Count.EVENTS])
         if k > since:
-            self._hot_time.extend(float(x) for x in f._series[since:k, 0])
-            self._hot_pore.extend(int(x) for x in f._order[since:k])
+            self._hot_time.extend(float(x) for x in f.records.series[since:k, Column.TIME])
+            self._hot_pore.extend(int(x) for x in f.records.order[since:k])

@@ -14,8 +14,10 @@ import math
 
 import numpy as np
 
-from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
+from porenet.kernels.jit import njit, prange, serial_and_parallel, threaded_box
 from porenet.kernels.viscous.diffusion import csr_fluxes, grid_flux
+from porenet.kernels.viscous.state import Sweep
+from porenet.kernels.viscous.stencil import Stencil, interior_run
 
 #: Most stages of one step (the step is cut to what they make stable).
 MAX_STAGES = 400
@@ -81,37 +83,26 @@ def coefficients(m: int) -> tuple[float, np.ndarray]:
 
 @njit(helper=True)
 def _row_stage(
-    pc: np.ndarray,
-    pw: np.ndarray,
-    pe: np.ndarray,
-    pu: np.ndarray,
-    pd: np.ndarray,
-    gw: np.ndarray,
-    ge: np.ndarray,
-    gu: np.ndarray,
-    gd: np.ndarray,
-    up: bool,
-    down: bool,
-    outlet: bool,
-    g_out: np.ndarray,
+    run: Stencil,
     inv_vol: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
-    c1: float,
-    c2: float,
-    ce: float,
-    cf: float,
+    coef: tuple[float, float, float, float],
     out: np.ndarray,
 ) -> None:
-    """One stage for a run of a row with both horizontal neighbours in the box (aligned views
-    as in :func:`porenet.kernels.viscous.diffusion._row_interior`): ``out = c1 y1 + c2 y2 + (ce L
-    y1 + cf f0) / V`` with ``y1 = pc``; ``outlet`` says whether the run touches the outlet (only
-    rows on the lattice's edge do: elsewhere ``g_out`` is not read). No reduction, so it
-    compiles to SIMD instructions without reordering any sum: every pore is computed the same
-    way, whatever the alignment of the arrays (a run is bitwise reproducible)."""
+    """One stage for a run of a row with both horizontal neighbours in the box (aligned views,
+    :func:`porenet.kernels.viscous.stencil.interior_run`): ``out = c1 y1 + c2 y2 + (ce L y1 +
+    cf f0) / V`` with ``y1 = run.centre`` (only rows on the lattice's edge read the outlet
+    conductances). No reduction, so it compiles to SIMD instructions without reordering any
+    sum: every pore is computed the same way, whatever the alignment of the arrays (a run is
+    bitwise reproducible)."""
+    c1, c2, ce, cf = coef
+    pc, pw, east, pu, pd = run.centre, run.west, run.east, run.up, run.down
+    gw, ge, gu, gd, g_out = run.g_west, run.g_east, run.g_up, run.g_down, run.g_outlet
+    up, down, outlet = run.has_up, run.has_down, run.on_outlet
     for j in range(pc.size):
         pk = pc[j]
-        total = gw[j] * (pw[j] - pk) + ge[j] * (pe[j] - pk)
+        total = gw[j] * (pw[j] - pk) + ge[j] * (east[j] - pk)
         if outlet:
             total -= g_out[j] * pk
         if up:
@@ -122,28 +113,16 @@ def _row_stage(
 
 
 @njit(helper=True)
-def _row_flux(
-    pc: np.ndarray,
-    pw: np.ndarray,
-    pe: np.ndarray,
-    pu: np.ndarray,
-    pd: np.ndarray,
-    gw: np.ndarray,
-    ge: np.ndarray,
-    gu: np.ndarray,
-    gd: np.ndarray,
-    up: bool,
-    down: bool,
-    outlet: bool,
-    g_out: np.ndarray,
-    out: np.ndarray,
-) -> None:
+def _row_flux(run: Stencil, out: np.ndarray) -> None:
     """``L y1`` (volumetric) of a run of a row into ``out``. The same loop as
     :func:`_row_stage` without the combination: one loop with a ``flux_only`` branch instead
     was measured slower (the branch is not hoisted out of the SIMD loop)."""
+    pc, pw, east, pu, pd = run.centre, run.west, run.east, run.up, run.down
+    gw, ge, gu, gd, g_out = run.g_west, run.g_east, run.g_up, run.g_down, run.g_outlet
+    up, down, outlet = run.has_up, run.has_down, run.on_outlet
     for j in range(pc.size):
         pk = pc[j]
-        total = gw[j] * (pw[j] - pk) + ge[j] * (pe[j] - pk)
+        total = gw[j] * (pw[j] - pk) + ge[j] * (east[j] - pk)
         if outlet:
             total -= g_out[j] * pk
         if up:
@@ -156,12 +135,7 @@ def _row_flux(
 @njit(helper=True)
 def _stage_row(
     i: int,
-    n: int,
-    box: np.ndarray,
-    nbox: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    inv_vol: np.ndarray,
+    field: Sweep,
     y1: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
@@ -170,35 +144,21 @@ def _stage_row(
     flux_only: bool,
 ) -> float:
     """Row ``i`` of :func:`grid_stage`; returns its outflow rate (a sequential sum)."""
+    n, box, nbox = field.grid_n, field.box, field.bounds
+    g_eff, g_out, inv_vol = field.between, field.outlet, field.inverse_volume
     c1, c2, ce, cf = coef
     j0, j1 = box[2], box[3]
-    vertical = n * (n - 1)
     row_out = 0.0
     row = i * n
     up, down = i > nbox[0], i < nbox[1] - 1
     outlet = i == 0 or i == n - 1
     a, b = row + j0 + 1, row + j1 - 1
     if b > a:
-        h = i * (n - 1) + j0
-        above = vertical + a - n if up else vertical + a
-        below = vertical + a if down else vertical + a - n
-        pu = y1[a - n : b - n] if up else y1[a:b]
-        pd = y1[a + n : b + n] if down else y1[a:b]
+        run = interior_run(y1, g_eff, g_out, n, a, b, up, down)
         if flux_only:
-            _row_flux(
-                y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
-                g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
-                g_eff[above : above + b - a], g_eff[below : below + b - a],
-                up, down, outlet, g_out[a:b], out[a:b],
-            )  # fmt: skip
+            _row_flux(run, out[a:b])
         else:
-            _row_stage(
-                y1[a:b], y1[a - 1 : b - 1], y1[a + 1 : b + 1], pu, pd,
-                g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
-                g_eff[above : above + b - a], g_eff[below : below + b - a],
-                up, down, outlet, g_out[a:b], inv_vol[a:b], y2[a:b], f0[a:b],
-                c1, c2, ce, cf, out[a:b],
-            )  # fmt: skip
+            _row_stage(run, inv_vol[a:b], y2[a:b], f0[a:b], coef, out[a:b])
         if outlet:  # the outlet's pores inside the run
             for k in range(a, b):
                 row_out += g_out[k] * y1[k]
@@ -215,12 +175,7 @@ def _stage_row(
 
 
 def _stage_rows(
-    n: int,
-    box: np.ndarray,
-    nbox: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    inv_vol: np.ndarray,
+    field: Sweep,
     y1: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
@@ -230,10 +185,9 @@ def _stage_rows(
     partial: np.ndarray,
 ) -> None:
     """:func:`_stage_row` over the box's rows (they write disjoint parts of ``out``)."""
+    box = field.box
     for i in prange(box[0], box[1]):
-        partial[i - box[0]] = _stage_row(
-            i, n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out, flux_only
-        )
+        partial[i - box[0]] = _stage_row(i, field, y1, y2, f0, coef, out, flux_only)
 
 
 _stage_rows_serial, _stage_rows_parallel = serial_and_parallel(_stage_rows)
@@ -241,12 +195,7 @@ _stage_rows_serial, _stage_rows_parallel = serial_and_parallel(_stage_rows)
 
 @njit
 def grid_stage(
-    n: int,
-    box: np.ndarray,
-    nbox: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    inv_vol: np.ndarray,
+    field: Sweep,
     y1: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
@@ -254,24 +203,23 @@ def grid_stage(
     out: np.ndarray,
     flux_only: bool,
 ) -> float:
-    """Canonical n x n grids, over the box of active pores: ``out = c1 y1 + c2 y2 + (ce L y1 +
+    """Canonical n x n grids, over the box ``field.box``: ``out = c1 y1 + c2 y2 + (ce L y1 +
     cf f0) / V`` (``coef = (c1, c2, ce, cf)``), or with ``flux_only`` ``out = L y1``
-    (volumetric; ``L y`` is the Darcy flux into each pore, ``F_E``). Neighbours outside the box
-    ``nbox`` (which holds ``box``: the active pores; ``box`` itself when the whole of it is
-    swept) do not count, as in :func:`porenet.kernels.viscous.diffusion.grid_sweep`; neighbours
-    outside ``box`` but inside ``nbox`` do, with the values ``y1`` holds there (a window's
-    ring, :mod:`porenet.kernels.viscous.multirate`). Returns the outflow rate ``sum g_out y1`` over
-    ``box`` (per row, then over the rows in order: the same bits on any number of threads).
-    Boxes of :data:`porenet.kernels._jit.PARALLEL_MIN` pores or more are swept by several
-    threads."""
+    (volumetric; ``L y`` is the Darcy flux into each pore, ``F_E``). Neighbours outside
+    ``field.bounds`` (which holds the box: the active pores; the box itself when the whole of
+    it is swept) do not count, as in :func:`porenet.kernels.viscous.diffusion.grid_sweep`;
+    neighbours outside the box but inside the bounds do, with the values ``y1`` holds there
+    (a window's ring, :mod:`porenet.kernels.viscous.multirate`). Returns the outflow rate
+    ``sum g_out y1`` over the box (per row, then over the rows in order: the same bits on any
+    number of threads). Boxes of :data:`porenet.kernels.jit.PARALLEL_MIN` pores or more are
+    swept by several threads."""
+    box = field.box
     rows = box[1] - box[0]
     partial = np.empty(max(rows, 0))
     if threaded_box(box):
-        _stage_rows_parallel(n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out,
-                             flux_only, partial)  # fmt: skip
+        _stage_rows_parallel(field, y1, y2, f0, coef, out, flux_only, partial)
     else:
-        _stage_rows_serial(n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out,
-                           flux_only, partial)  # fmt: skip
+        _stage_rows_serial(field, y1, y2, f0, coef, out, flux_only, partial)
     total_out = 0.0
     for r in range(rows):
         total_out += partial[r]
@@ -280,28 +228,21 @@ def grid_stage(
 
 @njit
 def csr_stage(
-    na: int,
-    act: np.ndarray,
-    apos: np.ndarray,
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    thr: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    inv_vol: np.ndarray,
+    field: Sweep,
     y1: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
     coef: tuple[float, float, float, float],
     out: np.ndarray,
     flux_only: bool,
-    scratch: np.ndarray,
 ) -> float:
-    """Generic lattices, over the active pores ``act[:na]``: as :func:`grid_stage`."""
+    """Generic lattices, over the active pores ``field.pores[:n_active]``: as
+    :func:`grid_stage` (``field.scratch`` holds ``L y1``)."""
     c1, c2, ce, cf = coef
-    csr_fluxes(na, act, apos, indptr, nbr, thr, g_eff, g_out, y1, scratch)
+    act, g_out, inv_vol, scratch = field.pores, field.outlet, field.inverse_volume, field.scratch
+    csr_fluxes(field, y1, scratch)
     total_out = 0.0
-    for s in range(na):
+    for s in range(field.n_active):
         k = act[s]
         total_out += g_out[k] * y1[k]
         if flux_only:
@@ -313,7 +254,7 @@ def csr_stage(
 
 @njit
 def sweep(
-    field: tuple,
+    field: Sweep,
     y1: np.ndarray,
     y2: np.ndarray,
     f0: np.ndarray,
@@ -321,16 +262,11 @@ def sweep(
     out: np.ndarray,
     flux_only: bool,
 ) -> float:
-    """:func:`grid_stage` or :func:`csr_stage` over the active pores of ``field = (grid_n,
-    box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch, nbox)`` (``nbox``
-    is ``box`` except in a window of local time steps, :mod:`porenet.kernels.viscous.multirate`)."""
-    grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, scratch, nbox = field
-    if grid_n > 0:
-        return grid_stage(
-            grid_n, box, nbox, g_eff, g_out, inv_vol, y1, y2, f0, coef, out, flux_only
-        )
-    return csr_stage(na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, y1, y2, f0, coef,
-                     out, flux_only, scratch)  # fmt: skip
+    """:func:`grid_stage` or :func:`csr_stage` over the active pores of ``field`` (a
+    :class:`~porenet.kernels.viscous.state.Sweep`)."""
+    if field.grid_n > 0:
+        return grid_stage(field, y1, y2, f0, coef, out, flux_only)
+    return csr_stage(field, y1, y2, f0, coef, out, flux_only)
 
 
 def spectral_radius(

@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
+from porenet.kernels.jit import njit, prange, serial_and_parallel, threaded_box
+from porenet.kernels.viscous.state import Conductances, Count, Network, Sweep
+from porenet.kernels.viscous.stencil import Stencil, interior_run
 
 
 @njit(helper=True)
@@ -38,25 +40,18 @@ def set_remove(x: int, items: np.ndarray, pos: np.ndarray, cnt: np.ndarray, slot
 
 @njit(helper=True)
 def activate(j: int, act: np.ndarray, apos: np.ndarray, cnt: np.ndarray) -> None:
-    set_add(j, act, apos, cnt, 3)
+    """Add pore ``j`` to the active pores (counted in ``cnt[Count.N_ACTIVE]``)."""
+    set_add(j, act, apos, cnt, Count.N_ACTIVE)
 
 
 @njit(helper=True)
-def csr_fluxes(
-    na: int,
-    act: np.ndarray,
-    apos: np.ndarray,
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    thr: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    p: np.ndarray,
-    flux: np.ndarray,
-) -> None:
-    """Generic lattices: explicit flux into each active pore ``act[:na]`` (neighbours counted
-    only while active, so what one pore gains its neighbour loses)."""
-    for s in range(na):
+def csr_fluxes(field: Sweep, p: np.ndarray, flux: np.ndarray) -> None:
+    """Generic lattices: explicit flux into each active pore ``field.pores[:n_active]``
+    (neighbours counted only while active, so what one pore gains its neighbour loses)."""
+    act, apos, indptr, nbr, thr = (field.pores, field.pore_slot, field.indptr, field.neighbour,
+                                   field.throat)  # fmt: skip
+    g_eff, g_out = field.between, field.outlet
+    for s in range(field.n_active):
         i = act[s]
         pi = p[i]
         total = -g_out[i] * pi
@@ -121,35 +116,24 @@ def grid_flux(
 
 @njit(helper=True, reassociate=True)
 def _row_interior(
-    pc: np.ndarray,
-    pw: np.ndarray,
-    pe: np.ndarray,
-    pu: np.ndarray,
-    pd: np.ndarray,
-    gw: np.ndarray,
-    ge: np.ndarray,
-    gu: np.ndarray,
-    gd: np.ndarray,
-    up: bool,
-    down: bool,
-    g_out: np.ndarray,
+    run: Stencil,
     vol: np.ndarray,
     inv_vol: np.ndarray,
     dt: float,
     p_next: np.ndarray,
 ) -> tuple[float, float]:
-    """Forward Euler for a run of pores of one row with both horizontal neighbours in the box.
-
-    Every argument array is a view aligned on the run (``pw[j]``, ``pe[j]``, ``pu[j]``,
-    ``pd[j]``: the west, east, up and down neighbours of pore ``pc[j]``; ``gw[j]`` ... their
-    conductances), so each index is the loop counter itself: no offset, no sign test, and
-    the loop compiles to SIMD instructions. ``up``/``down``: whether the row above/below is
-    in the box. Returns the change of stored volume and the outflow rate of the run."""
+    """Forward Euler for a run of pores of one row with both horizontal neighbours in the box
+    (:func:`porenet.kernels.viscous.stencil.interior_run`; ``vol``, ``inv_vol`` and ``p_next``
+    aligned on the run too): the loop compiles to SIMD instructions. Returns the change of
+    stored volume and the outflow rate of the run."""
+    pc, pw, east, pu, pd = run.centre, run.west, run.east, run.up, run.down
+    gw, ge, gu, gd, g_out = run.g_west, run.g_east, run.g_up, run.g_down, run.g_outlet
+    up, down = run.has_up, run.has_down
     stored = 0.0
     out = 0.0
     for j in range(pc.size):
         pk = pc[j]
-        total = gw[j] * (pw[j] - pk) + ge[j] * (pe[j] - pk) - g_out[j] * pk
+        total = gw[j] * (pw[j] - pk) + ge[j] * (east[j] - pk) - g_out[j] * pk
         if up:
             total += gu[j] * (pu[j] - pk)
         if down:
@@ -163,37 +147,20 @@ def _row_interior(
 
 @njit(helper=True)
 def _sweep_row(
-    i: int,
-    n: int,
-    box: np.ndarray,
-    nbox: np.ndarray,
-    dt: float,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    vol: np.ndarray,
-    inv_vol: np.ndarray,
-    p: np.ndarray,
-    p_next: np.ndarray,
+    i: int, field: Sweep, dt: float, vol: np.ndarray, p: np.ndarray, p_next: np.ndarray
 ) -> tuple[float, float]:
     """Row ``i`` of :func:`grid_sweep`; returns its stored-volume change and outflow rate."""
+    n, box, nbox = field.grid_n, field.box, field.bounds
+    g_eff, g_out, inv_vol = field.between, field.outlet, field.inverse_volume
     j0, j1 = box[2], box[3]
-    vertical = n * (n - 1)
     stored = 0.0
     out = 0.0
     row = i * n
     up, down = i > nbox[0], i < nbox[1] - 1
     a, b = row + j0 + 1, row + j1 - 1  # the interior run of the row: pores [a, b)
     if b > a:
-        h = i * (n - 1) + j0  # throat between pores a - 1 and a
-        above = vertical + a - n if up else vertical + a  # any valid view when unused
-        below = vertical + a if down else vertical + a - n
-        stored, out = _row_interior(
-            p[a:b], p[a - 1 : b - 1], p[a + 1 : b + 1],
-            p[a - n : b - n] if up else p[a:b], p[a + n : b + n] if down else p[a:b],
-            g_eff[h : h + b - a], g_eff[h + 1 : h + 1 + b - a],
-            g_eff[above : above + b - a], g_eff[below : below + b - a],
-            up, down, g_out[a:b], vol[a:b], inv_vol[a:b], dt, p_next[a:b],
-        )  # fmt: skip
+        run = interior_run(p, g_eff, g_out, n, a, b, up, down)
+        stored, out = _row_interior(run, vol[a:b], inv_vol[a:b], dt, p_next[a:b])
     for k in (row + j0, row + j1 - 1):
         pk = p[k]
         total = grid_flux(n, nbox, k, p, g_eff, g_out)
@@ -207,24 +174,18 @@ def _sweep_row(
 
 
 def _sweep_rows(
-    n: int,
-    box: np.ndarray,
-    nbox: np.ndarray,
+    field: Sweep,
     dt: float,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
     vol: np.ndarray,
-    inv_vol: np.ndarray,
     p: np.ndarray,
     p_next: np.ndarray,
     partial: np.ndarray,
 ) -> None:
     """:func:`_sweep_row` over the box's rows (they write disjoint parts of ``p_next``)."""
+    box = field.box
     for i in prange(box[0], box[1]):
         r = i - box[0]
-        partial[0, r], partial[1, r] = _sweep_row(
-            i, n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next
-        )
+        partial[0, r], partial[1, r] = _sweep_row(i, field, dt, vol, p, p_next)
 
 
 _sweep_rows_serial, _sweep_rows_parallel = serial_and_parallel(_sweep_rows)
@@ -232,40 +193,31 @@ _sweep_rows_serial, _sweep_rows_parallel = serial_and_parallel(_sweep_rows)
 
 @njit
 def grid_sweep(
-    n: int,
-    box: np.ndarray,
-    nbox: np.ndarray,
-    dt: float,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    vol: np.ndarray,
-    inv_vol: np.ndarray,
-    p: np.ndarray,
-    p_next: np.ndarray,
+    field: Sweep, dt: float, vol: np.ndarray, p: np.ndarray, p_next: np.ndarray
 ) -> tuple[float, float]:
-    """Canonical n x n grids: forward Euler for every pore of the box of active pores, from
-    ``p`` into ``p_next`` (throats in canonical order: horizontal (i,j)-(i,j+1) is
-    ``i (n-1) + j``, vertical (i,j)-(i+1,j) is ``n (n-1) + i n + j``). A throat touching a
-    drained pore has ``g_eff = 0`` and a drained pore ``g_out = 0``, so drained pores keep
-    their value with no test. Each pore gathers its own throat fluxes; ``g (p_j - p_i)`` and
-    ``g (p_i - p_j)`` are exact negatives in floating point, so what one pore gains its
-    neighbour loses, to the bit. ``inv_vol`` is ``1 / vol``. Returns the change of stored
-    volume and the outflow rate (from the pressures at the start of the step).
+    """Canonical n x n grids: forward Euler for every pore of the box ``field.box``, from
+    ``p`` into ``p_next`` (throats in canonical order, :mod:`porenet.kernels.viscous.stencil`).
+    A throat touching a drained pore has conductance 0 and a drained pore an outlet
+    conductance 0, so drained pores keep their value with no test. Each pore gathers its own
+    throat fluxes; ``g (p_j - p_i)`` and ``g (p_i - p_j)`` are exact negatives in floating
+    point, so what one pore gains its neighbour loses, to the bit. Returns the change of
+    stored volume and the outflow rate (from the pressures at the start of the step).
 
     The interior of each row is one SIMD loop (:func:`_row_interior`); the first and last
     pore of each row, which lack a neighbour inside the box, are done one by one.
 
-    ``nbox`` holds ``box`` and bounds the neighbours that count (``box`` itself but in a
-    window of local time steps, :mod:`porenet.kernels.viscous.multirate`, whose ring of pores
-    outside ``box`` is read, not written). Boxes of :data:`porenet.kernels._jit.PARALLEL_MIN` pores
-    or more are swept by several threads; the sums are taken per row, then over the rows in
-    order, so the result does not depend on their number."""
+    ``field.bounds`` holds the box and bounds the neighbours that count (the box itself but in
+    a window of local time steps, :mod:`porenet.kernels.viscous.multirate`, whose ring of pores
+    outside the box is read, not written). Boxes of :data:`porenet.kernels.jit.PARALLEL_MIN`
+    pores or more are swept by several threads; the sums are taken per row, then over the rows
+    in order, so the result does not depend on their number."""
+    box = field.box
     rows = box[1] - box[0]
     partial = np.empty((2, max(rows, 0)))
     if threaded_box(box):
-        _sweep_rows_parallel(n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next, partial)
+        _sweep_rows_parallel(field, dt, vol, p, p_next, partial)
     else:
-        _sweep_rows_serial(n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next, partial)
+        _sweep_rows_serial(field, dt, vol, p, p_next, partial)
     stored = 0.0
     out = 0.0
     for r in range(rows):
@@ -319,30 +271,21 @@ def grow_box(box: np.ndarray, n: int, i: int, j: int, margin: int) -> None:
 
 @njit(helper=True)
 def spread(
-    grid_n: int,
-    box: np.ndarray,
-    na: int,
-    act: np.ndarray,
-    apos: np.ndarray,
-    cnt: np.ndarray,
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    drained: np.ndarray,
-    p: np.ndarray,
-    floor: float,
+    field: Sweep, counters: np.ndarray, drained: np.ndarray, p: np.ndarray, floor: float
 ) -> None:
     """Activate the undrained neighbours of active pores whose ``|p|`` exceeds ``floor``
     (on grids: grow the box by one row or column where its edge exceeds it)."""
-    if grid_n == 0:
-        for s in range(na):
+    if field.grid_n == 0:
+        act, apos, indptr, nbr = field.pores, field.pore_slot, field.indptr, field.neighbour
+        for s in range(field.n_active):
             i = act[s]
             if abs(p[i]) > floor:
                 for e in range(indptr[i], indptr[i + 1]):
                     j = nbr[e]
                     if apos[j] < 0 and not drained[j]:
-                        activate(j, act, apos, cnt)
+                        activate(j, act, apos, counters)
         return
-    grow_where_reached(box, grid_n, p, floor, 1)
+    grow_where_reached(field.box, field.grid_n, p, floor, 1)
 
 
 @njit(helper=True)
@@ -368,23 +311,15 @@ def grow_where_reached(box: np.ndarray, n: int, p: np.ndarray, floor: float, mar
 def refresh_throats(
     throats: np.ndarray,
     apertures: np.ndarray,
-    area_factor: float,
-    permeability_factor: float,
-    meniscus_length: float,
-    throat_pores: np.ndarray,
+    factors: tuple[float, float, float],
+    net: Network,
+    cond: Conductances,
     drained: np.ndarray,
-    area: np.ndarray,
-    g_num: np.ndarray,
-    g_eff: np.ndarray,
-    entry: np.ndarray,
-    indptr: np.ndarray,
-    thr: np.ndarray,
-    vol: np.ndarray,
-    g_out: np.ndarray,
 ) -> float:
-    """Recompute the properties of the given throats from their apertures ``r`` (a), in place:
-    area ``A = c_A r^2``, ``A k`` with ``k = c_k r^2``, the conductance ``A k / l`` between
-    undrained pores (0 for a throat touching a drained pore), the entry pressure ``2 / r``.
+    """Recompute the properties of the given throats from their apertures ``r`` (a), in
+    ``cond``: area ``A = c_A r^2``, ``A k`` with ``k = c_k r^2``, the conductance ``A k / l``
+    between undrained pores (0 for a throat touching a drained pore), the entry pressure
+    ``2 / r``; ``factors = (c_A, c_k, l)``.
 
     Returns
     -------
@@ -394,6 +329,10 @@ def refresh_throats(
         that narrowed cannot lower a limit). A limit computed while other throats of the
         list are not refreshed yet is at most too small, never too large.
     """
+    area_factor, permeability_factor, meniscus_length = factors
+    area, g_num, g_eff, entry = cond.area, cond.meniscus, cond.between, cond.entry_pressure
+    throat_pores, indptr, thr, vol, g_out = (net.throat_pores, net.indptr, net.throat,
+                                             net.volume, cond.outlet)  # fmt: skip
     limit = np.inf
     for e in range(throats.shape[0]):
         t = throats[e]

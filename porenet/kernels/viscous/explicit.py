@@ -19,9 +19,10 @@ threshold law is used in its convex closure, so a meniscus at its threshold slid
 (:mod:`porenet.kernels.viscous.menisci`). The pore-to-pore part is stable for
 ``dt <= min_i V_i / (sum_j g_ij + g_out,i)``; the implicit part is unconditionally stable, so the
 meniscus and reservoir terms never limit the step. Every flux is computed once and used for both
-sides, so the volume balances close to round-off (see :data:`ACC`). A step that would take a
-meniscus past ``l = 0`` is shortened so that the first one lands exactly on 0 (bracketed
-regula falsi on the step length), and the pore drains at that instant.
+sides, so the volume balances close to round-off (see
+:class:`~porenet.kernels.viscous.state.Total`). A step that would take a meniscus past ``l = 0`` is
+shortened so that the first one lands exactly on 0 (bracketed regula falsi on the step length), and
+the pore drains at that instant.
 
 Pressure spreads only through the *active* pores: undrained pores next to a meniscus or next to
 an active pore whose pressure exceeds ``floor`` in magnitude. Fluxes to inactive pores are
@@ -37,7 +38,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 from porenet.kernels.viscous.diffusion import (
     activate,
     copy_rows,
@@ -52,18 +53,36 @@ from porenet.kernels.viscous.diffusion import (
     spread,
 )
 from porenet.kernels.viscous.menisci import (
-    CONTROL_PRESSURE,
-    CONTROL_RATE,
     invader_pressure,
     landing_step,
     pore_after,
     step_change,
     undrained_pore,
 )
+from porenet.kernels.viscous.state import (
+    Column,
+    Conductances,
+    Control,
+    Count,
+    Flow,
+    Front,
+    Injection,
+    Menisci,
+    Network,
+    Pump,
+    Records,
+    Scratch,
+    Status,
+    StepRules,
+    Stops,
+    Sweep,
+    Total,
+)
 from porenet.kernels.viscous.window import (
-    CUT_FAR_MENISCUS,
-    CUT_NEAR_EDGE,
-    FINE,
+    Cut,
+    Mode,
+    Window,
+    WindowInt,
     book_explicit,
     cut,
     far_meniscus,
@@ -73,52 +92,8 @@ from porenet.kernels.viscous.window import (
     set_ring,
 )
 
-#: Slots of the ``acc`` array of running totals (scaled units).
-ACC = {
-    "time": 0,
-    "invading_pressure": 1,
-    "injected": 2,  # volume delivered by the pump
-    "drained": 3,  # defender volume displaced by advancing menisci (the invader's volume)
-    "stored_defender": 4,  # sum of V_i p_i over undrained pores (compressibility storage)
-    "outflow": 5,  # defender volume through the outlet
-    "released": 6,  # storage V_i p_i discarded when pore i drains
-    "drained_pore_volume": 7,  # sum of V_i over drained pores
-    "stored_reservoir": 8,  # integral of C dp_inv
-    # carried from one call to the next, so that a run does not depend on how it is chunked
-    "dt_next": 9,  # the step the accuracy limit predicts (inf before the first step)
-    "last_rate": 10,  # largest |dp/dt| of the last step (pressure control; inf at first)
-    # local time steps: volume carried out of the window in the current macro step, which
-    # the far field receives (as stored volume or outflow) at its end
-    "in_transit": 11,
-}
-N_ACC = 12
-
-#: Slots of the ``cnt`` array of counters.
-CNT = {"events": 0, "steps": 1, "n_front": 2, "n_active": 3, "where": 4, "breakthrough": 5}
-N_CNT = 6
-
-#: Columns of the time-series rows written at each drainage event.
-SERIES = (
-    "time",
-    "invading_pressure",
-    "injected",
-    "drained",
-    "stored",
-    "outflow",
-    "released",
-    "n_drained",
-)
-
-#: Status codes returned by :func:`explicit_advance`.
-STATUS = {
-    0: "event budget reached",
-    1: "breakthrough",
-    2: "end time reached",
-    3: "step limit reached",
-    4: "non-finite value",
-    5: "no meniscus left",
-    6: "stationary",
-}
+#: The integrators' status codes, the slots of the totals and counters and the records'
+#: columns are named in :mod:`porenet.kernels.viscous.state`.
 
 
 @njit(helper=True)
@@ -130,247 +105,152 @@ def _unlink(n_on: int, on_p: np.ndarray, head: np.ndarray) -> None:
 
 
 @njit(helper=True)
-def _list_meniscus(
-    f: int,
-    i: int,
-    c: float,
-    n_on: int,
-    on_t: np.ndarray,
-    on_p: np.ndarray,
-    c_on: np.ndarray,
-    head: np.ndarray,
-    nxt: np.ndarray,
-) -> int:
+def _list_meniscus(f: int, i: int, c: float, n_on: int, menisci: Menisci) -> int:
     """Append meniscus ``f`` into pore ``i`` with threshold ``c`` to the step's candidates
     (and to pore ``i``'s links); return the new count."""
-    on_t[n_on] = f
-    on_p[n_on] = i
-    c_on[n_on] = c
-    nxt[n_on] = head[i]
-    head[i] = n_on
+    menisci.throat[n_on] = f
+    menisci.pore[n_on] = i
+    menisci.threshold[n_on] = c
+    menisci.next[n_on] = menisci.head[i]
+    menisci.head[i] = n_on
     return n_on + 1
 
 
 @njit
 def drain_pore(
-    i: int,
-    f: int,
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    thr: np.ndarray,
-    vol: np.ndarray,
-    ell0: float,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    grid_n: int,
-    box: np.ndarray,
-    p: np.ndarray,
-    drained: np.ndarray,
-    ell: np.ndarray,
-    latched: np.ndarray,
-    front: np.ndarray,
-    fpos: np.ndarray,
-    act: np.ndarray,
-    apos: np.ndarray,
-    acc: np.ndarray,
-    cnt: np.ndarray,
-    order: np.ndarray,
-    via: np.ndarray,
-    series: np.ndarray,
+    pore: int,
+    via: int,
+    net: Network,
+    cond: Conductances,
+    flow: Flow,
+    front: Front,
+    records: Records,
+    new_meniscus: float,
 ) -> None:
-    """Drain pore ``i`` through throat ``f`` (-1 for an inlet) at the current time.
+    """Drain ``pore`` through throat ``via`` (-1 for an inlet) at the current time.
 
-    Its stored volume ``V_i p_i`` is released, the menisci entering it vanish, pinned menisci
-    of length ``ell0`` appear in its throats to undrained neighbours (which become active), and
-    the event is appended to the records and to the time series. Its throats stop
-    conducting between pores (``g_eff``) and it stops draining to the outlet (``g_out``).
+    Its stored volume ``V_i p_i`` is released, the menisci entering it vanish, menisci of
+    length ``new_meniscus`` appear in its throats to undrained neighbours (which become
+    active), and the event is appended to the records. Its throats stop conducting between
+    pores (:attr:`Conductances.between`) and it stops draining to the outlet. On grids the
+    active box grows to hold it and its neighbours.
     """
-    drained[i] = True
-    released = vol[i] * p[i]
-    acc[6] += released
-    acc[4] -= released
-    acc[7] += vol[i]
-    p[i] = acc[1]
-    g_out[i] = 0.0
-    set_remove(i, act, apos, cnt, 3)
-    if grid_n > 0:
-        grow_box(box, grid_n, i // grid_n, i % grid_n, 1)
-    for e in range(indptr[i], indptr[i + 1]):
-        j = nbr[e]
-        t = thr[e]
-        g_eff[t] = 0.0
-        if drained[j]:
-            set_remove(t, front, fpos, cnt, 2)
+    p, totals, counters = flow.pressure, flow.totals, flow.counters
+    flow.drained[pore] = True
+    released = net.volume[pore] * p[pore]
+    totals[Total.RELEASED] += released
+    totals[Total.STORED_DEFENDER] -= released
+    totals[Total.DRAINED_PORE_VOLUME] += net.volume[pore]
+    p[pore] = totals[Total.INVADING_PRESSURE]
+    cond.outlet[pore] = 0.0
+    set_remove(pore, front.pores, front.pore_slot, counters, Count.N_ACTIVE)
+    n = net.grid_n
+    if n > 0:
+        grow_box(front.box, n, pore // n, pore % n, 1)
+    for e in range(net.indptr[pore], net.indptr[pore + 1]):
+        j = net.neighbour[e]
+        t = net.throat[e]
+        cond.between[t] = 0.0
+        if flow.drained[j]:
+            set_remove(t, front.throats, front.throat_slot, counters, Count.N_FRONT)
         else:
-            ell[t] = ell0
-            latched[t] = False
-            set_add(t, front, fpos, cnt, 2)
-            activate(j, act, apos, cnt)
-    k = cnt[0]
-    order[k] = i
-    via[k] = f
-    series[k, 0] = acc[0]
-    series[k, 1] = acc[1]
-    series[k, 2] = acc[2]
-    series[k, 3] = acc[3]
-    series[k, 4] = acc[4] + acc[8] + acc[11]
-    series[k, 5] = acc[5]
-    series[k, 6] = acc[6]
-    series[k, 7] = k + 1
-    cnt[0] = k + 1
+            flow.meniscus_length[t] = new_meniscus
+            flow.latched[t] = False
+            set_add(t, front.throats, front.throat_slot, counters, Count.N_FRONT)
+            activate(j, front.pores, front.pore_slot, counters)
+    k = counters[Count.EVENTS]
+    records.order[k] = pore
+    records.via[k] = via
+    row = records.series[k]
+    row[Column.TIME] = totals[Total.TIME]
+    row[Column.INVADING_PRESSURE] = totals[Total.INVADING_PRESSURE]
+    row[Column.INJECTED] = totals[Total.INJECTED]
+    row[Column.DRAINED] = totals[Total.DRAINED]
+    row[Column.STORED] = (
+        totals[Total.STORED_DEFENDER] + totals[Total.STORED_RESERVOIR] + totals[Total.IN_TRANSIT]
+    )
+    row[Column.OUTFLOW] = totals[Total.OUTFLOW]
+    row[Column.RELEASED] = totals[Total.RELEASED]
+    row[Column.N_DRAINED] = k + 1
+    counters[Count.EVENTS] = k + 1
 
 
 @njit
 def explicit_advance(
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    thr: np.ndarray,
-    tp: np.ndarray,
-    g_eff: np.ndarray,
-    g_num: np.ndarray,
-    area: np.ndarray,
-    pe: np.ndarray,
-    vol: np.ndarray,
-    g_out: np.ndarray,
-    outlet: np.ndarray,
-    grid_n: int,
-    box: np.ndarray,
-    p: np.ndarray,
-    drained: np.ndarray,
-    ell: np.ndarray,
-    latched: np.ndarray,
-    front: np.ndarray,
-    fpos: np.ndarray,
-    act: np.ndarray,
-    apos: np.ndarray,
-    flux: np.ndarray,
-    p_next: np.ndarray,
-    on_t: np.ndarray,
-    on_p: np.ndarray,
-    landing: np.ndarray,
-    acc: np.ndarray,
-    cnt: np.ndarray,
-    order: np.ndarray,
-    via: np.ndarray,
-    series: np.ndarray,
-    dt_max: float,
-    control: int,
-    q_rate: float,
-    capacity: float,
-    capacity_per_drained: float,
-    ramp_rate: float,
-    latching: bool,
-    floor: float,
-    pressure_step: float,
-    ell0: float,
-    max_events: int,
-    t_end: float,
-    max_steps: int,
-    stop_at_breakthrough: bool,
-    step_budget: int,
-    nbox: np.ndarray,
-    win: tuple,
-    head: np.ndarray,
+    net: Network,
+    cond: Conductances,
+    flow: Flow,
+    front: Front,
+    records: Records,
+    scratch: Scratch,
+    injection: Injection,
+    rules: StepRules,
+    stops: Stops,
+    window: Window,
 ) -> int:
-    """Integrate until ``max_events`` pores drain or another stop (returns a :data:`STATUS` code).
+    """Integrate until ``stops.max_events`` pores drain or another stop; returns a
+    :class:`~porenet.kernels.viscous.state.Status`.
 
-    Parameters
-    ----------
-    indptr, nbr, thr : ndarray of int
-        CSR adjacency (neighbour pore and throat of each entry).
-    tp : ndarray of int, shape (M, 2)
-        Pores of each throat.
-    g_eff, g_num, area, pe : ndarray of float, shape (M,)
-        Conductance between undrained pores ``A k / 2`` (set to 0 by :func:`drain_pore` for
-        throats touching a drained pore), meniscus conductance times length ``A k``, throat
-        area ``A`` and entry pressure ``2 / r``.
-    vol, g_out : ndarray of float, shape (N,)
-        Pore volumes and conductance to the outlet reservoir (0 for inner pores, set to 0
-        when a pore drains).
-    outlet : ndarray of bool, shape (N,)
-        Pores whose drainage is breakthrough.
-    grid_n, box : int, ndarray of int (4,)
-        ``grid_n > 0`` for an ``n x n`` square grid in canonical throat order (horizontal
-        throats row-major, then vertical): the pores of the box of rows ``[box[0], box[1])``
-        and columns ``[box[2], box[3])`` are the active ones and are swept as a stencil.
-        ``grid_n = 0``: generic lattice, active pores listed in ``act``.
-    p, drained, ell, latched : state arrays, updated in place
-        Pore pressures (the invader's in drained pores, as of their drainage), drained mask,
-        remaining meniscus length and latched flag of each throat (meaningful on the frontier).
-    front, fpos, act, apos : index lists, updated in place
-        Frontier throats (``front[:cnt[2]]``, ``fpos`` their slots or -1) and active pores
-        (``act[:cnt[3]]``, ``apos`` likewise).
-    flux, p_next, on_t, on_p, landing : scratch, shapes (N,), (N,), (M,), (M,), (M,)
-    acc, cnt : running totals (:data:`ACC`) and counters (:data:`CNT`), updated in place.
-    order, via, series : records, appended at ``cnt[0]`` by :func:`drain_pore` (the drainage
-        time and invading pressure of each event are ``series[:, 0]`` and ``series[:, 1]``).
-    dt_max : float
-        Largest step (the stability limit times the safety factor).
-    control : int
-        ``CONTROL_RATE``, ``_PRESSURE`` or ``_RAMP`` of :mod:`porenet.kernels.viscous.menisci`.
-    q_rate, capacity, capacity_per_drained, ramp_rate : float
-        Injection rate; reservoir compliance ``C = capacity + capacity_per_drained * V_drained``;
-        ``dp_inv/dt`` of a ramp.
-    latching : bool
-        Meniscus rule: False for "threshold" (advance only while ``p_inv - p_i > p_e``), True
-        for "latching" (once started, advance while ``p_inv > p_i``).
-    floor : float
-        Pressure magnitude above which a pore activates its neighbours.
-    pressure_step : float
-        Accuracy limit on the step: the invading pressure and the pressure difference across
-        each candidate meniscus change by at most this much per step (checked on the solved
-        step, which is redone shorter if needed), so that menisci start near their
-        thresholds. ``inf`` leaves only the stability limit.
-    ell0 : float
-        Length of a new meniscus (2).
-    max_events, t_end, max_steps, stop_at_breakthrough
-        Stops.
-    step_budget : int
-        Return (status 0) after this many steps in this call, so the caller can report
-        progress and run observers during long stretches without drainage.
-    nbox, win : ndarray of int (4,), tuple
-        ``box`` itself and a window that is off (:func:`porenet.kernels.viscous.window.no_window`),
-        except in the fine integration of a macro step of local time steps
-        (:mod:`porenet.kernels.viscous.multirate`): then ``box`` is the window (it does not grow),
-        ``nbox`` the active box, the ring around the window is read at each step's start
-        and books the volume it receives, and the call ends with
-        :data:`porenet.kernels.viscous.window.CUT` when a meniscus outside the window may start or a
-        pore drains near its edge.
-    head : ndarray of int, shape (N,)
-        Scratch, -1 everywhere on entry and on return (the per-pore links of a step's
-        candidates; kept by the caller so that a call allocates nothing of size N).
+    Reads ``net`` and ``injection``, ``rules`` and ``stops`` (:mod:`porenet.kernels.viscous.
+    state`); advances ``flow`` (pressures, menisci, totals, counters), ``front`` (frontier,
+    active pores and box), ``cond`` (a drained pore's throats stop conducting) and appends to
+    ``records``; ``scratch`` is work space, left clean.
+
+    The pores swept are the active box (grids) or the listed active pores, except in the fine
+    integration of a macro step of local time steps (``window`` in mode FINE,
+    :mod:`porenet.kernels.viscous.window`): then only the window's box is swept, the ring
+    around it is read at each step's start and books the volume it receives, and the call
+    ends with ``Status.CUT`` when a meniscus outside the window may start or a pore drains
+    near its edge. ``window`` is off (:func:`porenet.kernels.viscous.window.no_window`)
+    otherwise.
     """
+    indptr, nbr, thr, tp = net.indptr, net.neighbour, net.throat, net.throat_pores
+    vol, inv_vol, outlet, grid_n = net.volume, net.inverse_volume, net.outlet, net.grid_n
+    g_eff, g_num, area, entry, g_out = cond
+    p, drained, ell, latched, totals, counters = flow
+    act, apos, nbox = front.pores, front.pore_slot, front.box
+    flux, p_next = scratch.flux, scratch.next_pressure
+    on_t, on_p, head = scratch.meniscus_throat, scratch.meniscus_pore, scratch.head
+    landing = scratch.meniscus_flux  # each candidate's flux over the step
+    control, q_rate, capacity, capacity_per_drained, ramp_rate = injection
+    dt_max, latching, floor, pressure_step, ell0 = rules
     events = 0
-    steps_at_entry = cnt[1]
-    inv_vol = 1.0 / vol  # the grid sweep multiplies (a division per pore would dominate it)
+    steps_at_entry = counters[Count.STEPS]
     # The candidate menisci of a step: thresholds, and per-pore links (head[i] -> nxt ...).
-    c_on = np.empty(len(on_t))
-    nxt = np.empty(len(on_t), dtype=np.int64)
-    near = np.empty(len(on_t), dtype=np.int64)  # slots in front of menisci near threshold
-    last_rate = acc[10]  # largest |dp/dt| of the last step (for the stationarity test)
-    dt_next = acc[9]  # the step the accuracy limit predicts
-    windowed = win[0][0] == FINE
+    c_on = scratch.threshold
+    nxt = scratch.next_candidate
+    near = scratch.near  # slots in front of menisci near their threshold
+    last_rate = totals[Total.LAST_RATE]  # largest |dp/dt| of the last step (stationarity)
+    dt_next = totals[Total.DT_NEXT]  # the step the accuracy limit predicts
+    windowed = window.ints[WindowInt.MODE] == Mode.FINE
+    box = window.box if windowed else nbox  # the pores swept
     while True:
-        acc[9] = dt_next
-        acc[10] = last_rate
-        if events >= max_events or cnt[1] - steps_at_entry >= step_budget:
-            return 0
-        t = acc[0]
-        if t >= t_end:
-            return 2
-        if cnt[1] >= max_steps:
-            return 3
-        nf = cnt[2]
+        totals[Total.DT_NEXT] = dt_next
+        totals[Total.LAST_RATE] = last_rate
+        if (
+            events >= stops.max_events
+            or counters[Count.STEPS] - steps_at_entry >= stops.step_budget
+        ):
+            return Status.BUDGET
+        t = totals[Total.TIME]
+        if t >= stops.t_end:
+            return Status.END_TIME
+        if counters[Count.STEPS] >= stops.max_steps:
+            return Status.STEP_LIMIT
+        nf = counters[Count.N_FRONT]
         if nf == 0:
-            return 5
-        na = cnt[3]
-        pinv = acc[1]
-        capacity_now = capacity + capacity_per_drained * acc[7]
-        dt_hi = min(dt_max, t_end - t)
+            return Status.NO_MENISCUS
+        na = counters[Count.N_ACTIVE]
+        pinv = totals[Total.INVADING_PRESSURE]
+        capacity_now = capacity + capacity_per_drained * totals[Total.DRAINED_PORE_VOLUME]
+        dt_hi = min(dt_max, stops.t_end - t)
         if windowed:
-            set_ring(win, p, t)
+            set_ring(window, p, t)
+        # the pores swept (the box, or the listed active pores) and what the sweep reads
+        field = Sweep(grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, flux,
+                      nbox)  # fmt: skip
         if grid_n == 0:
-            csr_fluxes(na, act, apos, indptr, nbr, thr, g_eff, g_out, p, flux)
+            csr_fluxes(field, p, flux)
         # The candidate menisci of the step, on_t[:n_on] into pores on_p[:n_on] with
         # thresholds c_on: those that may flow by its end (menisci.py: each one flows, slides
         # on its threshold or stops, by the end-of-step pressures). Rule "latching": a
@@ -378,35 +258,35 @@ def explicit_advance(
         # Rule "threshold": first those at or above their entry pressure (a sliding one sits
         # on it); then those within reach of it as the invading pressure rises over the step
         # (to what it would reach with the first ones alone).
-        menisci = (on_t, on_p, c_on, head, nxt, p, flux, vol, g_num, ell, area)
-        pump = (control, pinv, q_rate, capacity_now, ramp_rate)
+        menisci = Menisci(on_t, on_p, c_on, head, nxt, p, flux, vol, g_num, ell, area)
+        pump = Pump(control, pinv, q_rate, capacity_now, ramp_rate)
         # the most the invading pressure can rise in the step (the pump alone)
-        reach = dt_hi * max(q_rate / capacity_now if control == CONTROL_RATE else 0.0, ramp_rate)
+        reach = dt_hi * max(q_rate / capacity_now if control == Control.RATE else 0.0, ramp_rate)
         if windowed:  # the macro step ends before a meniscus outside the window may start
-            k = far_meniscus(win, pinv, reach, t, pe, tp, drained)
+            k = far_meniscus(window, pinv, reach, t, entry, tp, drained)
             if k >= 0:
-                return cut(win, CUT_FAR_MENISCUS, k)
+                return cut(window, Cut.FAR_MENISCUS, k)
         n_on = 0
         n_near = 0  # below their threshold by less than reach: near[:n_near]
         for s in range(nf):
-            f = front[s]
+            f = front.throats[s]
             i = undrained_pore(tp, drained, f)
-            if windowed and not inside(win[2], grid_n, i):
+            if windowed and not inside(window.box, grid_n, i):
                 # outside the window: the macro step ends before this meniscus may start
-                d = pinv - far_pressure(win, i, t)
-                if (latching and latched[f]) or d > pe[f] - reach:
+                d = pinv - far_pressure(window, i, t)
+                if (latching and latched[f]) or d > entry[f] - reach:
                     _unlink(n_on, on_p, head)
-                    return cut(win, CUT_FAR_MENISCUS, i)
+                    return cut(window, Cut.FAR_MENISCUS, i)
                 continue
             d = pinv - p[i]
             if latching:
-                if d > pe[f]:
+                if d > entry[f]:
                     latched[f] = True
                 if latched[f]:
-                    n_on = _list_meniscus(f, i, 0.0, n_on, on_t, on_p, c_on, head, nxt)
-            elif d > pe[f] * (1.0 - 1e-9):
-                n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
-            elif d > pe[f] - reach:
+                    n_on = _list_meniscus(f, i, 0.0, n_on, menisci)
+            elif d > entry[f] * (1.0 - 1e-9):
+                n_on = _list_meniscus(f, i, entry[f], n_on, menisci)
+            elif d > entry[f] - reach:
                 near[n_near] = s
                 n_near += 1
         n_sure = n_on
@@ -416,16 +296,16 @@ def explicit_advance(
         if n_near > 0:
             rise = invader_pressure(dt_hi, n_on, menisci, pump) - pinv
             for r in range(n_near):
-                f = front[near[r]]
+                f = front.throats[near[r]]
                 i = undrained_pore(tp, drained, f)
-                if pinv - p[i] > pe[f] - rise:
-                    n_on = _list_meniscus(f, i, pe[f], n_on, on_t, on_p, c_on, head, nxt)
+                if pinv - p[i] > entry[f] - rise:
+                    n_on = _list_meniscus(f, i, entry[f], n_on, menisci)
             if grid_n > 0:
                 for s in range(n_sure, n_on):
                     flux[on_p[s]] = grid_flux(grid_n, nbox, on_p[s], p, g_eff, g_out)
-        if control == CONTROL_PRESSURE and last_rate * dt_max <= floor:
+        if control == Control.PRESSURE and last_rate * dt_max <= floor:
             _unlink(n_on, on_p, head)
-            return 6
+            return Status.STATIONARY
         # Step length: the stability limit, the end time, the accuracy limit, and the first
         # meniscus to land on 0.
         # The accuracy limit is checked on the solved step, before the pressures are swept:
@@ -443,10 +323,10 @@ def explicit_advance(
         if grid_n == 0:
             stored, out, largest = csr_update(na, act, dt, p, p_next, flux, vol, g_out)
         else:
-            stored, out = grid_sweep(grid_n, box, nbox, dt, g_eff, g_out, vol, inv_vol, p, p_next)
+            stored, out = grid_sweep(field, dt, vol, p, p_next)
             largest = 0.0
             if windowed:
-                acc[11] += book_explicit(win, p, g_eff, dt)
+                totals[Total.IN_TRANSIT] += book_explicit(window, p, g_eff, dt)
         for s in range(n_on):  # meniscus pores: implicit in the meniscus fluxes
             i = on_p[s]
             if head[i] == s:  # each pore once
@@ -457,7 +337,7 @@ def explicit_advance(
         # moves by more than the floor per step (the largest |dp/dt| and meniscus flux per
         # pore volume); not needed otherwise, and on grids it costs a pass over the box.
         last_rate = np.inf
-        if control == CONTROL_PRESSURE:
+        if control == Control.PRESSURE:
             if grid_n > 0:
                 largest = grid_largest_rate(grid_n, box, dt, p, p_next)
             for s in range(n_on):
@@ -481,21 +361,21 @@ def explicit_advance(
             copy_rows(grid_n, box, p_next, p)
         _unlink(n_on, on_p, head)
         if not windowed:
-            spread(grid_n, box, na, act, apos, cnt, indptr, nbr, drained, p, floor)
-        acc[3] += qsum * dt
-        acc[4] += stored
-        acc[5] += out * dt
-        if control == CONTROL_RATE:
-            acc[2] += q_rate * dt
+            spread(field, counters, drained, p, floor)
+        totals[Total.DRAINED] += qsum * dt
+        totals[Total.STORED_DEFENDER] += stored
+        totals[Total.OUTFLOW] += out * dt
+        if control == Control.RATE:
+            totals[Total.INJECTED] += q_rate * dt
         else:
-            acc[2] += qsum * dt + capacity_now * (pnew - pinv)
-        acc[8] += capacity_now * (pnew - pinv)
-        acc[1] = pnew
-        acc[0] = t + dt
-        cnt[1] += 1
+            totals[Total.INJECTED] += qsum * dt + capacity_now * (pnew - pinv)
+        totals[Total.STORED_RESERVOIR] += capacity_now * (pnew - pinv)
+        totals[Total.INVADING_PRESSURE] = pnew
+        totals[Total.TIME] = t + dt
+        counters[Count.STEPS] += 1
         if not (np.isfinite(pnew) and np.isfinite(stored)):
-            cnt[4] = -1
-            return 4
+            counters[Count.WHERE] = -1
+            return Status.NON_FINITE
         # Drain the pore(s) whose meniscus landed on 0 (ties within round-off drain together).
         if event >= 0:
             f = on_t[event]
@@ -510,16 +390,13 @@ def explicit_advance(
             for i, f in completing:
                 if drained[i]:
                     continue
-                drain_pore(
-                    i, f, indptr, nbr, thr, vol, ell0, g_eff, g_out, grid_n, nbox, p, drained,
-                    ell, latched, front, fpos, act, apos, acc, cnt, order, via, series,
-                )  # fmt: skip
+                drain_pore(i, f, net, cond, flow, front, records, ell0)
                 events += 1
                 if outlet[i]:
-                    cnt[5] = 1
-                    if stop_at_breakthrough:
-                        return 1
-                if windowed and near_open_edge(win, nbox, grid_n, i):
+                    counters[Count.BREAKTHROUGH] = 1
+                    if stops.at_breakthrough:
+                        return Status.BREAKTHROUGH
+                if windowed and near_open_edge(window, nbox, grid_n, i):
                     edge = i
             if edge >= 0:
-                return cut(win, CUT_NEAR_EDGE, edge)
+                return cut(window, Cut.NEAR_EDGE, edge)

@@ -26,20 +26,18 @@ threshold. The law is monotone in ``D``, so the step's equations have one soluti
 
 :func:`landing_step` finds the first instant a meniscus reaches length 0.
 
-The helpers of one step take the candidate menisci and the pump as two tuples:
-``menisci = (on_t, on_p, c_on, head, nxt, p, flux, vol, g_num, ell, area)`` (the listed
-menisci's throats, pores and thresholds, the per-pore links, then the arrays they read) and
-``pump = (control, pinv, q_rate, capacity, ramp_rate)`` (see :func:`explicit_advance` in
-:mod:`porenet.kernels.viscous.explicit`).
+The helpers of one step take the candidate menisci and the pump as two named tuples,
+:class:`~porenet.kernels.viscous.state.Menisci` (the listed menisci's throats, pores and
+thresholds, the per-pore links, then the arrays they read) and
+:class:`~porenet.kernels.viscous.state.Pump`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels._jit import njit
-
-CONTROL_RATE, CONTROL_PRESSURE, CONTROL_RAMP = 0, 1, 2
+from porenet.kernels.jit import njit
+from porenet.kernels.viscous.state import Control, Menisci, Pump
 
 
 @njit(helper=True)
@@ -51,7 +49,7 @@ def undrained_pore(tp: np.ndarray, drained: np.ndarray, f: int) -> int:
 
 @njit(helper=True)
 def pore_response(
-    i: int, pnew: float, dt: float, menisci: tuple
+    i: int, pnew: float, dt: float, menisci: Menisci
 ) -> tuple[float, float, float, int, float]:
     """Pore ``i`` over a step of ``dt`` that ends at invading pressure ``pnew``.
 
@@ -62,7 +60,9 @@ def pore_response(
     (-1 if none) and its flux. Every other meniscus carries ``G D`` if its threshold is below
     ``D``, else 0.
     """
-    on_t, _on_p, c_on, head, nxt, p, flux, vol, g_num, ell, _area = menisci
+    on_t, c_on, nxt = menisci.throat, menisci.threshold, menisci.next
+    g_num, ell, vol = menisci.conductance, menisci.length, menisci.volume
+    head, p, flux = menisci.head, menisci.pressure, menisci.flux
     vdt = vol[i] / dt
     y = pnew - (p[i] + dt * flux[i] / vol[i])  # D if no meniscus flows
     # Menisci whose threshold is below y flow, slide or stop; they are tried in decreasing
@@ -99,9 +99,9 @@ def pore_response(
 
 
 @njit(helper=True)
-def meniscus_flux(s: int, d: float, slider: int, lam: float, menisci: tuple) -> float:
+def meniscus_flux(s: int, d: float, slider: int, lam: float, menisci: Menisci) -> float:
     """Flux of listed meniscus ``s`` once its pore's response ``(D, slider, lam)`` is known."""
-    on_t, c_on, g_num, ell = menisci[0], menisci[2], menisci[8], menisci[9]
+    on_t, c_on, g_num, ell = menisci.throat, menisci.threshold, menisci.conductance, menisci.length
     if s == slider:
         return lam
     if c_on[s] < d:
@@ -111,13 +111,12 @@ def meniscus_flux(s: int, d: float, slider: int, lam: float, menisci: tuple) -> 
 
 @njit(helper=True)
 def _pump_residual(
-    pnew: float, dt: float, n_on: int, menisci: tuple, pump: tuple
+    pnew: float, dt: float, n_on: int, menisci: Menisci, pump: Pump
 ) -> tuple[float, float]:
     """``C (p' - p_inv) / dt + sum q(p') - Q`` of rate control and its slope in ``p'``."""
-    on_p, head = menisci[1], menisci[3]
-    _control, pinv, q_rate, capacity, _ramp_rate = pump
-    residual = capacity * (pnew - pinv) / dt - q_rate
-    slope = capacity / dt
+    on_p, head = menisci.pore, menisci.head
+    residual = pump.capacity * (pnew - pump.pressure) / dt - pump.rate
+    slope = pump.capacity / dt
     for s in range(n_on):
         i = on_p[s]
         if head[i] == s:  # each pore once
@@ -128,7 +127,7 @@ def _pump_residual(
 
 
 @njit(helper=True)
-def invader_pressure(dt: float, n_on: int, menisci: tuple, pump: tuple) -> float:
+def invader_pressure(dt: float, n_on: int, menisci: Menisci, pump: Pump) -> float:
     """``p_inv`` at the end of a step of ``dt``: prescribed (pressure control, ramp) or the
     root of the rate-controlled reservoir equation.
 
@@ -140,13 +139,13 @@ def invader_pressure(dt: float, n_on: int, menisci: tuple, pump: tuple) -> float
     the root an iterate is an end of the bracket, and sending that "outside" step to
     bisection cost ~35 needless halvings per solve (docs/performance.md). An Illinois
     secant in place of bisection was tried and took more iterations."""
-    on_p, c_on, p, flux, vol = menisci[1], menisci[2], menisci[5], menisci[6], menisci[7]
-    control, pinv, q_rate, capacity, ramp_rate = pump
-    if control == CONTROL_PRESSURE:
-        return pinv
-    if control == CONTROL_RAMP:
-        return pinv + ramp_rate * dt
-    hi = pinv + dt * q_rate / capacity
+    on_p, c_on = menisci.pore, menisci.threshold
+    p, flux, vol = menisci.pressure, menisci.flux, menisci.volume
+    if pump.control == Control.PRESSURE:
+        return pump.pressure
+    if pump.control == Control.RAMP:
+        return pump.pressure + pump.ramp_rate * dt
+    hi = pump.pressure + dt * pump.rate / pump.capacity
     lo = hi
     for s in range(n_on):
         i = on_p[s]
@@ -174,10 +173,10 @@ def invader_pressure(dt: float, n_on: int, menisci: tuple, pump: tuple) -> float
 
 
 @njit(helper=True)
-def meniscus_fluxes(dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray) -> float:
+def meniscus_fluxes(dt: float, n_on: int, menisci: Menisci, pump: Pump, q_out: np.ndarray) -> float:
     """Solve a step of ``dt``: write each listed meniscus' flux into ``q_out[:n_on]`` and
     return the invading pressure at its end."""
-    on_p, head, nxt = menisci[1], menisci[3], menisci[4]
+    on_p, head, nxt = menisci.pore, menisci.head, menisci.next
     pnew = invader_pressure(dt, n_on, menisci, pump)
     for s in range(n_on):
         i = on_p[s]
@@ -191,19 +190,19 @@ def meniscus_fluxes(dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np
 
 
 @njit(helper=True)
-def pore_after(i: int, pnew: float, dt: float, menisci: tuple) -> float:
+def pore_after(i: int, pnew: float, dt: float, menisci: Menisci) -> float:
     """Pressure of pore ``i`` at the end of the step (explicit fluxes, implicit menisci)."""
-    p, flux, vol = menisci[5], menisci[6], menisci[7]
+    p, flux, vol = menisci.pressure, menisci.flux, menisci.volume
     q, _dq, _d, _slider, _lam = pore_response(i, pnew, dt, menisci)
     return p[i] + dt * (flux[i] + q) / vol[i]
 
 
 @njit(helper=True)
-def step_change(dt: float, pnew: float, n_on: int, menisci: tuple, pinv: float) -> float:
+def step_change(dt: float, pnew: float, n_on: int, menisci: Menisci, pinv: float) -> float:
     """Largest change over a solved step of the invading pressure and of the pressure
     difference across a candidate meniscus, ``|D' - D|`` (what decides when menisci start
     and stop; the accuracy limit ``pressure_step`` bounds it)."""
-    on_p, head, p = menisci[1], menisci[3], menisci[5]
+    on_p, head, p = menisci.pore, menisci.head, menisci.pressure
     change = abs(pnew - pinv)
     for s in range(n_on):
         i = on_p[s]
@@ -214,12 +213,12 @@ def step_change(dt: float, pnew: float, n_on: int, menisci: tuple, pinv: float) 
 
 @njit(helper=True)
 def shortest_remaining(
-    dt: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray
+    dt: float, n_on: int, menisci: Menisci, pump: Pump, q_out: np.ndarray
 ) -> tuple[float, int, float]:
     """Solve a step of ``dt`` (fluxes into ``q_out``): the smallest remaining meniscus length
     ``l - q dt / A`` among the listed menisci that flow, its index in ``on_t`` (``inf, -1``
     if none flows) and the invading pressure at the end of the step."""
-    on_t, ell, area = menisci[0], menisci[9], menisci[10]
+    on_t, ell, area = menisci.throat, menisci.length, menisci.area
     pnew = meniscus_fluxes(dt, n_on, menisci, pump, q_out)
     shortest = np.inf
     arg = -1
@@ -235,7 +234,7 @@ def shortest_remaining(
 
 @njit(helper=True)
 def landing_step(
-    dt_hi: float, ell0: float, n_on: int, menisci: tuple, pump: tuple, q_out: np.ndarray
+    dt_hi: float, ell0: float, n_on: int, menisci: Menisci, pump: Pump, q_out: np.ndarray
 ) -> tuple[float, int, float]:
     """The step: ``dt_hi`` if no meniscus lands within it, else the first landing.
 
@@ -246,7 +245,7 @@ def landing_step(
     with ``q_out`` holding the fluxes of that step; the landing meniscus is within
     ``1e-14 l0`` of 0 (it may be a hair past it, never short).
     """
-    on_t, ell = menisci[0], menisci[9]
+    on_t, ell = menisci.throat, menisci.length
     phi_hi, arg, p_hi = shortest_remaining(dt_hi, n_on, menisci, pump, q_out)
     if phi_hi > 0.0:
         return dt_hi, -1, p_hi

@@ -37,19 +37,22 @@ when they approach the tolerance.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 from porenet.kernels.viscous.chebyshev import sweep
 from porenet.kernels.viscous.diffusion import set_add, set_remove
 from porenet.kernels.viscous.menisci import undrained_pore
-from porenet.kernels.viscous.rkc_step import imex_stages
+from porenet.kernels.viscous.rkc_step import Stages, StepStart, imex_stages
+from porenet.kernels.viscous.state import Count, Front, Menisci, Network, Pump, Sweep
 from porenet.kernels.viscous.window import (
-    COARSE,
-    RING_COARSE,
-    RING_FLUX,
-    RING_P0,
-    RING_RATE,
+    Mode,
+    Ring,
+    Window,
+    WindowFloat,
+    WindowInt,
     book_shadow,
     inside,
 )
@@ -119,51 +122,73 @@ def outlet_links(n: int, nbox: np.ndarray, g_out: np.ndarray, ring_i: np.ndarray
     return k - k0
 
 
+class CoarseStep(NamedTuple):
+    """What :func:`coarse_step` reads besides the sweep and the window.
+
+    Attributes
+    ----------
+    h : float
+        The step's length.
+    stages : int
+        Its stage count.
+    sources, rates : ndarray of int64 and float64
+        Constant sources (volume per time) at the pores of the menisci that move.
+    menisci, pump : Menisci, Pump
+        As for :func:`porenet.kernels.viscous.rkc_step.imex_stages`, with no meniscus listed.
+    threshold : float
+        Local error above which a pore must lie in the window.
+    """
+
+    h: float
+    stages: int
+    sources: np.ndarray
+    rates: np.ndarray
+    menisci: Menisci
+    pump: Pump
+    threshold: float
+
+
 @njit
 def coarse_step(
-    field: tuple,
+    field: Sweep,
     p: np.ndarray,
-    win: tuple,
-    h: float,
-    m: int,
-    sources: np.ndarray,
-    rates: np.ndarray,
-    ybuf: np.ndarray,
+    window: Window,
+    step: CoarseStep,
+    buffers: np.ndarray,
     f0: np.ndarray,
     fnew: np.ndarray,
     zero: np.ndarray,
     p1: np.ndarray,
-    menisci0: tuple,
-    pump0: tuple,
-    threshold: float,
     ebox: np.ndarray,
 ) -> float:
-    """One RKC step of ``h`` in ``m`` stages over the active box of ``field`` from ``p``,
-    without menisci, with constant sources ``rates`` (volume per time) at the pores
-    ``sources`` (the menisci that move, in the window). Writes the end state into ``p1``
-    (``p`` is not changed); into row ``RING_COARSE`` of the window's ``ring_f`` the volume
-    each ring throat carried out of the window and each outlet link (listed after the ring
-    throats, :func:`outlet_links`) out of its pore; into ``ebox`` the bounding box of the
-    pores whose local error estimate exceeds ``threshold`` (empty if none).
-    ``menisci0``/``pump0``: the tuples of :func:`porenet.kernels.viscous.rkc_step.imex_stages` (no
-    meniscus is listed). Returns the total outflow."""
-    grid_n, box = field[0], field[1]
-    inv_vol = field[10]
-    wi, ring_f = win[0], win[4]
+    """One RKC step of ``step.h`` in ``step.stages`` stages over the active box of ``field``
+    from ``p``, without menisci, with constant sources ``step.rates`` (volume per time) at the
+    pores ``step.sources`` (the menisci that move, in the window); ``buffers`` (3, N), ``f0``,
+    ``fnew`` and ``zero`` (N) are the RKC integrator's buffers. Writes the end state into
+    ``p1`` (``p`` is not changed); into row ``Ring.COARSE`` of the window's ring values the
+    volume each ring throat carried out of the window and each outlet link (listed after the
+    ring throats, :func:`outlet_links`) out of its pore; into ``ebox`` the bounding box of the
+    pores whose local error estimate exceeds ``step.threshold`` (empty if none). Returns the
+    total outflow."""
+    h, m = step.h, step.stages
+    grid_n, box = field.grid_n, field.box
+    inv_vol = field.inverse_volume
+    wi, ring_f = window.ints, window.ring_value
     qst, lst = np.zeros((3, 1)), np.zeros((3, 1))
     pst, ast = np.zeros(3), np.zeros((3, 2))
     r_ell, moved, q0 = np.zeros(1), np.zeros(1, dtype=np.bool_), np.zeros(1)
     out0 = sweep(field, p, p, f0, (0.0, 0.0, 0.0, 0.0), f0, True)
-    for s in range(len(sources)):
-        f0[sources[s]] += rates[s]
-    mode = wi[0]
-    wi[0] = COARSE
-    ring_f[RING_COARSE, : wi[2] + wi[5]] = 0.0
-    k = imex_stages(h, m, field, p, f0, out0, ybuf, zero, zero, 0, menisci0, pump0, q0,
-                    qst, lst, pst, ast, r_ell, moved, win)  # fmt: skip
-    book_shadow(win, m, RING_COARSE)
-    wi[0] = mode
-    ds = ybuf[k]
+    for s in range(len(step.sources)):
+        f0[step.sources[s]] += step.rates[s]
+    mode = wi[WindowInt.MODE]
+    wi[WindowInt.MODE] = Mode.COARSE
+    ring_f[Ring.COARSE, : wi[WindowInt.N_RING] + wi[WindowInt.N_OUTLET]] = 0.0
+    stages = Stages(buffers, zero, zero, qst, lst, pst, ast, r_ell, moved)
+    start = StepStart(p, f0, out0, q0)
+    k = imex_stages(h, m, field, start, 0, step.menisci, step.pump, stages, window)
+    book_shadow(window, m, Ring.COARSE)
+    wi[WindowInt.MODE] = mode
+    ds = buffers[k]
     sweep(field, ds, ds, f0, (0.0, 0.0, 0.0, 0.0), fnew, True)
     ebox[0] = ebox[2] = grid_n
     ebox[1] = ebox[3] = 0
@@ -172,7 +197,7 @@ def coarse_step(
             change = ds[c]
             p1[c] = p[c] + change
             e = abs(-0.8 * change + 0.4 * h * (2.0 * f0[c] + fnew[c]) * inv_vol[c])
-            if e > threshold:
+            if e > step.threshold:
                 j = c - i * grid_n
                 ebox[0] = min(ebox[0], i)
                 ebox[1] = max(ebox[1], i + 1)
@@ -183,34 +208,34 @@ def coarse_step(
 
 @njit
 def start_fine(
-    win: tuple, p: np.ndarray, p1: np.ndarray, field: tuple, t0: float, h: float
+    window: Window, p: np.ndarray, p1: np.ndarray, field: Sweep, t0: float, h: float
 ) -> None:
     """Before the fine integration of a macro step from ``t0`` of length ``h``: every active
     pore's pressure at ``t0`` and its rate to the coarse step's end ``p1`` (linear in time)
     into the window's ``p0`` and ``rate`` (read for the menisci outside the window), the same
     for the ring pores, and nothing booked yet."""
-    wi, wf, ring_i, ring_f, p0, rate = win[0], win[1], win[3], win[4], win[5], win[6]
-    grid_n, box = field[0], field[1]
-    wf[0] = t0
+    ring_i, ring_f, p0, rate = window.ring_index, window.ring_value, window.p0, window.rate
+    grid_n, box = field.grid_n, field.box
+    window.floats[WindowFloat.T0] = t0
     for i in range(box[0], box[1]):
         for k in range(i * grid_n + box[2], i * grid_n + box[3]):
             p0[k] = p[k]
             rate[k] = (p1[k] - p[k]) / h
-    for e in range(wi[2]):
+    for e in range(window.ints[WindowInt.N_RING]):
         r = ring_i[1, e]
-        ring_f[RING_FLUX, e] = 0.0
-        ring_f[RING_P0, e] = p[r]
-        ring_f[RING_RATE, e] = rate[r]
+        ring_f[Ring.FLUX, e] = 0.0
+        ring_f[Ring.P0, e] = p[r]
+        ring_f[Ring.RATE, e] = rate[r]
 
 
 @njit
 def far_update(
-    field: tuple,
+    field: Sweep,
     p: np.ndarray,
     p1: np.ndarray,
     vol: np.ndarray,
     drained: np.ndarray,
-    win: tuple,
+    window: Window,
     theta: float,
 ) -> tuple[float, float, float]:
     """The far field after a fine integration that reached ``theta`` of the macro step:
@@ -222,11 +247,12 @@ def far_update(
     ``p`` holds the start values outside the window but at the ring pores, which the fine
     integration overwrote. Returns the stored volume change (the far field's and the
     refluxed volumes), the far field's outflow and the largest refluxed pressure change."""
-    grid_n, box, inv_vol = field[0], field[1], field[10]
-    wi, wbox, ring_i, ring_f = win[0], win[2], win[3], win[4]
-    for e in range(wi[2]):
+    grid_n, box, inv_vol = field.grid_n, field.box, field.inverse_volume
+    wbox, ring_i, ring_f = window.box, window.ring_index, window.ring_value
+    n_ring, n_outlet = window.ints[WindowInt.N_RING], window.ints[WindowInt.N_OUTLET]
+    for e in range(n_ring):
         r = ring_i[1, e]
-        p[r] = ring_f[RING_P0, e]  # its value at t0 again
+        p[r] = ring_f[Ring.P0, e]  # its value at t0 again
     stored = 0.0
     for i in range(box[0], box[1]):
         inside_rows = wbox[0] <= i < wbox[1]
@@ -238,12 +264,12 @@ def far_update(
             p[c] += dp
             stored += vol[c] * dp
     outflow = 0.0
-    for e in range(wi[2], wi[2] + wi[5]):
+    for e in range(n_ring, n_ring + n_outlet):
         if not inside(wbox, grid_n, ring_i[0, e]):
-            outflow += theta * ring_f[RING_COARSE, e]
+            outflow += theta * ring_f[Ring.COARSE, e]
     largest = 0.0
-    for e in range(wi[2]):
-        dv = ring_f[RING_FLUX, e] - theta * ring_f[RING_COARSE, e]
+    for e in range(n_ring):
+        dv = ring_f[Ring.FLUX, e] - theta * ring_f[Ring.COARSE, e]
         largest = max(largest, abs(dv * inv_vol[ring_i[1, e]]))
         stored += _deposit(grid_n, box, ring_i[0, e], ring_i[1, e], dv, p, vol, drained)
     return stored, outflow, largest
@@ -340,35 +366,31 @@ def far_level(
 
 @njit
 def merge_front(
-    order: np.ndarray,
-    first: int,
-    last: int,
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    thr: np.ndarray,
+    net: Network,
     drained: np.ndarray,
-    front: np.ndarray,
-    fpos: np.ndarray,
-    cnt: np.ndarray,
-    wfront: np.ndarray,
-    n_w: int,
-    wfpos: np.ndarray,
+    front: Front,
+    counters: np.ndarray,
+    drained_now: np.ndarray,
+    window_throats: np.ndarray,
+    window_slots: np.ndarray,
+    n_window: int,
 ) -> None:
-    """After a fine integration that drained the pores ``order[first:last]`` with the
-    window's own front: update the global front (``front``, ``fpos``, ``cnt[2]``) as
-    :func:`porenet.kernels.viscous.explicit.drain_pore` would have (a throat joining two drained
-    pores leaves it, one from a drained pore to an undrained one joins it), and clear the
-    window front's slots ``wfpos`` of its ``n_w`` throats."""
-    for k in range(first, last):
-        i = order[k]
-        for e in range(indptr[i], indptr[i + 1]):
-            t = thr[e]
-            if drained[nbr[e]]:
-                set_remove(t, front, fpos, cnt, 2)
+    """After a fine integration with the window's own front (its throats ``window_throats
+    [:n_window]``, their slots ``window_slots``) that drained the pores ``drained_now``:
+    update the global ``front`` and ``counters[N_FRONT]`` as
+    :func:`porenet.kernels.viscous.explicit.drain_pore` would have (a throat joining two
+    drained pores leaves it, one from a drained pore to an undrained one joins it), and clear
+    the window front's slots."""
+    for k in range(drained_now.shape[0]):
+        i = drained_now[k]
+        for e in range(net.indptr[i], net.indptr[i + 1]):
+            t = net.throat[e]
+            if drained[net.neighbour[e]]:
+                set_remove(t, front.throats, front.throat_slot, counters, Count.N_FRONT)
             else:
-                set_add(t, front, fpos, cnt, 2)
-    for s in range(n_w):
-        wfpos[wfront[s]] = -1
+                set_add(t, front.throats, front.throat_slot, counters, Count.N_FRONT)
+    for s in range(n_window):
+        window_slots[window_throats[s]] = -1
 
 
 __all__ = [

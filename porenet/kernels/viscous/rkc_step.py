@@ -8,18 +8,74 @@ functions. Pure numba functions on arrays, in scaled units
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from porenet.kernels._jit import njit, prange, serial_and_parallel, threaded_box
+from porenet.kernels.jit import njit, prange, serial_and_parallel, threaded_box
 from porenet.kernels.viscous.chebyshev import coefficients, sweep
-from porenet.kernels.viscous.menisci import (
-    CONTROL_PRESSURE,
-    CONTROL_RAMP,
-    CONTROL_RATE,
-    meniscus_fluxes,
-    pore_after,
+from porenet.kernels.viscous.menisci import meniscus_fluxes, pore_after
+from porenet.kernels.viscous.state import Control, Menisci, Pump, Sweep
+from porenet.kernels.viscous.window import (
+    Mode,
+    Window,
+    WindowInt,
+    ring_increment,
+    shadow_stage,
 )
-from porenet.kernels.viscous.window import FINE, OFF, ring_increment, shadow_stage
+
+
+class StepStart(NamedTuple):
+    """The state ``y_n`` an RKC step starts from (besides the menisci's lengths).
+
+    Attributes
+    ----------
+    pressure : ndarray of float64, shape (N,)
+    flux : ndarray of float64, shape (N,)
+        ``F_E(y_n)``, the explicit (Darcy) flux into each pore.
+    outflow : float
+        Its outflow rate.
+    meniscus_flux : ndarray of float64, shape (M,)
+        ``F_I(y_n)``: each candidate's flux over one explicit-length step from ``y_n``.
+    """
+
+    pressure: np.ndarray
+    flux: np.ndarray
+    outflow: float
+    meniscus_flux: np.ndarray
+
+
+class Stages(NamedTuple):
+    """The stage buffers of an RKC step; stage ``j`` is row ``(j - 1) % 3``.
+
+    Attributes
+    ----------
+    increments : ndarray of float64, shape (3, N)
+        The pores' increments ``W_j - y_n``.
+    rhs : ndarray of float64, shape (N,)
+        The stages' right-hand sides at the menisci's pores.
+    zero : ndarray of float64, shape (N,)
+        Zeros (the menisci's explicit flux inside a stage).
+    flux, length : ndarray of float64, shape (3, M)
+        Each candidate's flux and meniscus length.
+    invading_pressure : ndarray of float64, shape (3,)
+    volumes : ndarray of float64, shape (3, 2)
+        The drained and the outflow volume since ``y_n``.
+    length_rhs : ndarray of float64, shape (M,)
+        Right-hand sides of the meniscus lengths.
+    moved : ndarray of bool, shape (M,)
+        Whether candidate ``s`` flowed in any stage.
+    """
+
+    increments: np.ndarray
+    rhs: np.ndarray
+    zero: np.ndarray
+    flux: np.ndarray
+    length: np.ndarray
+    invading_pressure: np.ndarray
+    volumes: np.ndarray
+    length_rhs: np.ndarray
+    moved: np.ndarray
 
 
 @njit(helper=True)
@@ -36,9 +92,9 @@ def implicit_rate(i: int, q: np.ndarray, head: np.ndarray, nxt: np.ndarray) -> f
 @njit(helper=True)
 def pump_rate(control: int, q_rate: float, capacity: float, ramp: float, qsum: float) -> float:
     """``dp_inv/dt`` given the total meniscus flux."""
-    if control == CONTROL_RATE:
+    if control == Control.RATE:
         return (q_rate - qsum) / capacity
-    if control == CONTROL_RAMP:
+    if control == Control.RAMP:
         return ramp
     return 0.0
 
@@ -47,8 +103,8 @@ def pump_rate(control: int, q_rate: float, capacity: float, ramp: float, qsum: f
 def stage_solve(
     dt_i: float,
     n_on: int,
-    menisci: tuple,
-    pump: tuple,
+    menisci: Menisci,
+    pump: Pump,
     q_out: np.ndarray,
     p: np.ndarray,
     d: np.ndarray,
@@ -57,7 +113,7 @@ def stage_solve(
     right-hand sides ``p + d`` go into ``p`` of ``menisci`` (its ``flux`` is zero). Solve over
     ``dt_i``, write the menisci's pores' increments into ``d`` and the meniscus fluxes into
     ``q_out``; return the stage's ``p_inv``."""
-    on_p, head, rhs = menisci[1], menisci[3], menisci[5]
+    on_p, head, rhs = menisci.pore, menisci.head, menisci.pressure
     for s in range(n_on):
         i = on_p[s]
         rhs[i] = p[i] + d[i]
@@ -91,10 +147,10 @@ _scaled_rows_serial, _scaled_rows_parallel = serial_and_parallel(_scaled_rows)
 
 
 @njit
-def _scaled_rate(field: tuple, f: np.ndarray, dt: float, out: np.ndarray) -> None:
+def _scaled_rate(field: Sweep, f: np.ndarray, dt: float, out: np.ndarray) -> None:
     """``out = dt f / V`` over the active pores of ``field`` (the first stage's increment)."""
-    grid_n, box, na, act = field[0], field[1], field[2], field[3]
-    inv_vol = field[10]
+    grid_n, box, na, act = field.grid_n, field.box, field.n_active, field.pores
+    inv_vol = field.inverse_volume
     if grid_n > 0 and threaded_box(box):
         _scaled_rows_parallel(grid_n, box, f, inv_vol, dt, out)
     elif grid_n > 0:
@@ -109,52 +165,47 @@ def _scaled_rate(field: tuple, f: np.ndarray, dt: float, out: np.ndarray) -> Non
 def imex_stages(
     h: float,
     m: int,
-    field: tuple,
-    p: np.ndarray,
-    f0: np.ndarray,
-    out0: float,
-    ybuf: np.ndarray,
-    rhs: np.ndarray,
-    zero: np.ndarray,
+    field: Sweep,
+    start: StepStart,
     n_on: int,
-    menisci0: tuple,
-    pump0: tuple,
-    q0: np.ndarray,
-    qst: np.ndarray,
-    lst: np.ndarray,
-    pst: np.ndarray,
-    ast: np.ndarray,
-    r_ell: np.ndarray,
-    moved: np.ndarray,
-    win: tuple,
+    menisci0: Menisci,
+    pump0: Pump,
+    stages: Stages,
+    window: Window,
 ) -> int:
-    """The ``m`` stages of an RKC step of ``h`` from ``y_n`` (``p``, ``F_E(y_n) = f0`` with
-    outflow rate ``out0``, the menisci's fluxes ``q0``, ``p_inv``, lengths ``ell``). Stage
-    ``j`` goes to buffer ``(j - 1) % 3``: ``ybuf`` holds the pores' increments ``W_j - y_n``,
-    ``pst`` p_inv, ``qst`` / ``lst`` each candidate's flux and length, ``ast`` the drained and
-    outflow volume since ``y_n``. Returns the buffer of ``y_{n+1}``; ``moved[s]`` tells
-    whether candidate ``s`` flowed in any stage.
+    """The ``m`` stages of an RKC step of ``h`` from ``y_n`` (``start``, and the menisci's
+    lengths and ``p_inv`` in ``menisci0`` and ``pump0``) into ``stages`` (:class:`Stages`).
+    Returns the buffer of ``y_{n+1}``.
 
     In a window's fine integration (:mod:`porenet.kernels.viscous.window`) the ring pores'
     increments at each stage's time ``c_j h`` are written into the stage buffers before they are
     swept; in it and in the coarse step over everything the volume each ring throat carries follows
     the stages (:func:`porenet.kernels.viscous.window.shadow_stage`).
     """
-    on_t, on_p, c_on, head, nxt, _p, _f, vol, g_num, ell, area = menisci0
-    control, pinv, q_rate, capacity, ramp = pump0
-    inv_vol, g_eff, g_out = field[10], field[8], field[9]
-    windowed = win[0][0] != OFF
-    dirichlet = win[0][0] == FINE
+    p, f0, out0, q0 = start.pressure, start.flux, start.outflow, start.meniscus_flux
+    ybuf, rhs, zero = stages.increments, stages.rhs, stages.zero
+    qst, lst, pst, ast = stages.flux, stages.length, stages.invading_pressure, stages.volumes
+    r_ell, moved = stages.length_rhs, stages.moved
+    on_t, on_p, head, nxt = menisci0.throat, menisci0.pore, menisci0.head, menisci0.next
+    ell, area = menisci0.length, menisci0.area
+    control, pinv, q_rate = pump0.control, pump0.pressure, pump0.rate
+    capacity, ramp = pump0.capacity, pump0.ramp_rate
+    inv_vol, g_eff, g_out = field.inverse_volume, field.between, field.outlet
+    mode = window.ints[WindowInt.MODE]
+    windowed = mode != Mode.OFF
+    dirichlet = mode == Mode.FINE
     mus1, coef = coefficients(m)
     dt_i = h * mus1
     if windowed:
-        shadow_stage(win, 1, p, g_eff, g_out, p, 0.0, 0.0, 0.0, dt_i)
+        shadow_stage(window, 1, p, g_eff, g_out, p, 0.0, 0.0, 0.0, dt_i)
     c_prev, c_prev2 = mus1, 0.0  # the stage times of W_{j-1} and W_{j-2} (fractions of h)
     qsum0 = 0.0
     for s in range(n_on):
         qsum0 += q0[s]
     fiinv0 = pump_rate(control, q_rate, capacity, ramp, qsum0)
-    menisci = (on_t, on_p, c_on, head, nxt, rhs, zero, vol, g_num, ell, area)
+    # the stages' implicit problems: right-hand sides for pressures, no explicit flux
+    menisci = Menisci(on_t, on_p, menisci0.threshold, head, nxt, rhs, zero, menisci0.volume,
+                      menisci0.conductance, ell, area)  # fmt: skip
     # stage 1: W_1 = y_n + dt_i F_E(y_n) + dt_i F_I(W_1), no stencil needed
     d1 = ybuf[0]
     _scaled_rate(field, f0, dt_i, d1)
@@ -176,9 +227,9 @@ def imex_stages(
         coef_j = (mu, 0.0 if j == 2 else nu, h * mus, h * (mus + gam))
         d2buf = ybuf[prev] if j == 2 else ybuf[prev2]  # (its weight is 0 at j = 2)
         if dirichlet:
-            ring_increment(win, ybuf[prev], c_prev * h)
+            ring_increment(window, ybuf[prev], c_prev * h)
         if windowed:
-            shadow_stage(win, j, ybuf[prev], g_eff, g_out, p, mu, nu, h * mus, h * (mus + gam))
+            shadow_stage(window, j, ybuf[prev], g_eff, g_out, p, mu, nu, h * mus, h * (mus + gam))
         c_prev, c_prev2 = mu * c_prev + nu * c_prev2 + mus + gam, c_prev
         out_prev = out0 + sweep(field, ybuf[prev], d2buf, f0, coef_j, dout, False)
         w0i = h * (gam - c0 * mus1)  # weight of F_I(y_n)
@@ -199,11 +250,11 @@ def imex_stages(
             swept = (w0i * q0[s] + w2i * q2[s]) / area[f]
             r_ell[s] = c0 * ell[f] + mu * lst[prev, s] + nu * l2 - swept
         r_inv = pinv
-        if control != CONTROL_PRESSURE:
+        if control != Control.PRESSURE:
             pinv2 = pinv if j == 2 else pst[prev2]
             r_inv = c0 * pinv + mu * pst[prev] + nu * pinv2 + w0i * fiinv0
             r_inv += w2i * pump_rate(control, q_rate, capacity, ramp, qsum2)
-        pump = (control, r_inv, q_rate, capacity, ramp)
+        pump = Pump(control, r_inv, q_rate, capacity, ramp)
         pst[k] = stage_solve(dt_i, n_on, menisci, pump, qst[k], p, dout)
         qs = 0.0
         for s in range(n_on):
@@ -245,20 +296,18 @@ def _error_run(
 
 def _error_rows(
     h: float,
-    n: int,
-    box: np.ndarray,
-    act: np.ndarray,
+    field: Sweep,
     count: int,
     ds: np.ndarray,
     f0: np.ndarray,
     fnew: np.ndarray,
     fi: np.ndarray,
     vol: np.ndarray,
-    inv_vol: np.ndarray,
     partial: np.ndarray,
 ) -> None:
-    """:func:`_error_run` over the box's rows (``n > 0``) or over the ``count`` listed
-    pores ``act``, into ``partial[:, r]``."""
+    """:func:`_error_run` over the box's rows (grids) or over the ``count`` listed active
+    pores, into ``partial[:, r]``."""
+    n, box, act, inv_vol = field.grid_n, field.box, field.pores, field.inverse_volume
     for r in prange(count):
         if n > 0:
             lo = (box[0] + r) * n + box[2]
@@ -277,7 +326,7 @@ _error_rows_serial, _error_rows_parallel = serial_and_parallel(_error_rows)
 @njit
 def step_error(
     h: float,
-    field: tuple,
+    field: Sweep,
     ds: np.ndarray,
     f0: np.ndarray,
     fnew: np.ndarray,
@@ -289,11 +338,10 @@ def step_error(
     is ``F_E`` plus ``fi`` at the menisci's pores), the stored volume change ``sum V ds`` and
     ``max |ds|``. On grids the sums are taken per row, then over the rows in order (by
     several threads on large boxes: the same bits on any number of them)."""
-    grid_n, box, na, act = field[0], field[1], field[2], field[3]
-    inv_vol = field[10]
+    grid_n, box, na = field.grid_n, field.box, field.n_active
     count = (box[1] - box[0]) if grid_n > 0 else na
     partial = np.empty((3, max(count, 0)))
-    args = (h, grid_n, box, act, count, ds, f0, fnew, fi, vol, inv_vol, partial)
+    args = (h, field, count, ds, f0, fnew, fi, vol, partial)
     if grid_n > 0 and threaded_box(box):
         _error_rows_parallel(*args)
     else:

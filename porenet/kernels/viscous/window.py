@@ -12,73 +12,124 @@ The menisci outside ``W`` are not integrated: their pores' pressures are interpo
 same way, and a macro step ends (status :data:`CUT`) as soon as one of them reaches its
 threshold, or a pore drains near an open edge of ``W``.
 
-The window travels as one tuple ``win = (wi, wf, wbox, ring_i, ring_f, p0, rate, far)``:
+The window travels as one :class:`Window` (a named tuple of arrays). The fine integration is
+given the window's own frontier (the throats of its menisci) as its front, so that its
+per-step loops are over the window's menisci only.
 
-* ``wi`` (int64, :data:`WI`): the mode, the edge margin, the number of ring throats and of
-  outlet links and, after a cut, its reason and pore;
-* ``wf`` (float64, :data:`WF`): the start time ``t0`` of the macro step;
-* ``wbox`` (int64, 4): rows ``[wbox[0], wbox[1])`` and columns ``[wbox[2], wbox[3])`` of ``W``;
-* ``ring_i`` (int64, (3, K)): per ring throat, the pore inside ``W``, the ring pore, the throat
-  (after them, per outlet link of the active box: the pore, -1, the pore);
-* ``ring_f`` (float64, (:data:`N_RING_F`, K)): see :data:`RING_P0`;
-* ``p0``, ``rate`` (float64, N): every pore's pressure at ``t0`` and its rate to the coarse
-  step's end (read for the pores outside ``W``);
-* ``far`` (int64, M): the frontier throats whose meniscus enters a pore outside ``W``
-  (``far[:wi[6]]``), watched by :func:`far_meniscus`. The fine integration is given the
-  window's own frontier (the throats of its menisci) as its front, so that its per-step
-  loops are over the window's menisci only.
-
-With ``wi[0] == OFF`` every helper is a no-op and the integrators behave as without a window.
-In ``COARSE`` mode only the shadow sums run: :func:`porenet.kernels.viscous.multirate.coarse_step`
+With mode ``Mode.OFF`` every helper is a no-op and the integrators behave as without a window.
+In ``Mode.COARSE`` only the shadow sums run: :func:`porenet.kernels.viscous.multirate.coarse_step`
 sweeps the window with everything else and books what crosses its edge.
 """
 
 from __future__ import annotations
 
+from enum import IntEnum
+from typing import NamedTuple
+
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 from porenet.kernels.viscous.menisci import undrained_pore
-
-#: Slots of ``wi``: the mode (:data:`OFF`, :data:`FINE`, :data:`COARSE`), the edge margin,
-#: the ring throats and the window's outlet links (listed after them), and after a cut its
-#: reason and pore.
-WI = {"mode": 0, "margin": 1, "n_ring": 2, "cut_reason": 3, "cut_pore": 4, "n_outlet": 5,
-      "n_far": 6}  # fmt: skip
-N_WI = 7
-#: Modes: no window; the fine integration (the ring is Dirichlet data, its throats book what
-#: they carry); the coarse step over everything (the ring throats and outlet links only book).
-OFF, FINE, COARSE = 0, 1, 2
-#: Slots of ``wf``: the start of the macro step, and the least invading pressure at which a
-#: meniscus outside the window may reach its threshold during it (:func:`far_meniscus`).
-WF = {"t0": 0, "far_level": 1}
-N_WF = 2
-#: Rows of ``ring_f``: the ring pore's pressure at ``t0`` and ``dp/dt``; the volume carried out
-#: of the window by the fine integration so far; three stage buffers of the RKC shadow sum;
-#: the volume the coarse step carried out over the whole macro step.
-RING_P0, RING_RATE, RING_FLUX, RING_SHADOW, RING_COARSE = 0, 1, 2, 3, 6
-N_RING_F = 7
-
-#: Status returned by the integrators when a window's macro step must end early.
-CUT = 8
-#: Reasons of a cut (``wi[3]``).
-CUT_FAR_MENISCUS, CUT_NEAR_EDGE = 1, 2
+from porenet.kernels.viscous.state import Status
 
 
-def window_arrays(mode: int, entries: int, n_pores: int, n_throats: int) -> tuple:
-    """The tuple ``win`` in ``mode``, with room for ``entries`` ring throats and outlet links,
+class WindowInt(IntEnum):
+    """Slots of :attr:`Window.ints`."""
+
+    MODE = 0  #: a :class:`Mode`
+    MARGIN = 1  #: pores from an open edge within which a drainage ends the macro step
+    N_RING = 2  #: ring throats (the first entries of the ring arrays)
+    CUT_REASON = 3  #: after a cut: a :class:`Cut`
+    CUT_PORE = 4  #: after a cut: the pore that caused it
+    N_OUTLET = 5  #: outlet links of the active box, listed after the ring throats
+    N_FAR = 6  #: frontier throats outside the window, :attr:`Window.far` [:N_FAR]
+
+
+class WindowFloat(IntEnum):
+    """Slots of :attr:`Window.floats`."""
+
+    T0 = 0  #: the start of the macro step
+    #: the least invading pressure at which a meniscus outside the window may reach its
+    #: threshold during the macro step (:func:`far_meniscus`)
+    FAR_LEVEL = 1
+
+
+class Mode(IntEnum):
+    """What a window does."""
+
+    OFF = 0  #: no window: the integrators sweep their whole box
+    FINE = 1  #: the fine integration: the ring is Dirichlet data, its throats book what they carry
+    COARSE = 2  #: the coarse step over everything: the ring throats and outlet links only book
+
+
+class Ring(IntEnum):
+    """Rows of :attr:`Window.ring_value`."""
+
+    P0 = 0  #: the ring pore's pressure at the start of the macro step
+    RATE = 1  #: and its rate of change to the coarse step's end
+    FLUX = 2  #: the volume carried out of the window by the fine integration so far
+    SHADOW = 3  #: three stage buffers of the RKC shadow sum (rows 3, 4, 5)
+    COARSE = 6  #: the volume the coarse step carried out over the whole macro step
+
+
+N_RING_VALUES = 7
+
+
+class Cut(IntEnum):
+    """Why a macro step ended early (``Status.CUT``)."""
+
+    FAR_MENISCUS = 1  #: a meniscus outside the window may start
+    NEAR_EDGE = 2  #: a pore drained near an open edge of the window
+
+
+class Window(NamedTuple):
+    """A window of local time steps.
+
+    Attributes
+    ----------
+    ints : ndarray of int64, shape (len(WindowInt),)
+        By :class:`WindowInt`.
+    floats : ndarray of float64, shape (len(WindowFloat),)
+        By :class:`WindowFloat`.
+    box : ndarray of int64, shape (4,)
+        Rows ``[box[0], box[1])`` and columns ``[box[2], box[3])`` of the window ``W``.
+    ring_index : ndarray of int64, shape (3, K)
+        Per ring throat: the pore inside ``W``, the ring pore, the throat (after them, per
+        outlet link of the active box: the pore, -1, the pore).
+    ring_value : ndarray of float64, shape (N_RING_VALUES, K)
+        By :class:`Ring`.
+    p0, rate : ndarray of float64, shape (N,)
+        Every pore's pressure at the start of the macro step and its rate to the coarse
+        step's end (read for the pores outside ``W``).
+    far : ndarray of int64, shape (M,)
+        The frontier throats whose meniscus enters a pore outside ``W``, watched by
+        :func:`far_meniscus`.
+    """
+
+    ints: np.ndarray
+    floats: np.ndarray
+    box: np.ndarray
+    ring_index: np.ndarray
+    ring_value: np.ndarray
+    p0: np.ndarray
+    rate: np.ndarray
+    far: np.ndarray
+
+
+def window_arrays(mode: int, entries: int, n_pores: int, n_throats: int) -> Window:
+    """A :class:`Window` in ``mode``, with room for ``entries`` ring throats and outlet links,
     and ``p0``, ``rate`` and ``far`` of ``n_pores``, ``n_pores`` and ``n_throats``."""
-    wi = np.zeros(N_WI, dtype=np.int64)
-    wi[0] = mode
-    return (
-        wi,
-        np.zeros(N_WF),
-        np.zeros(4, dtype=np.int64),
-        np.zeros((3, entries), dtype=np.int64),
-        np.zeros((N_RING_F, entries)),
-        np.zeros(n_pores),
-        np.zeros(n_pores),
-        np.zeros(n_throats, dtype=np.int64),
+    ints = np.zeros(len(WindowInt), dtype=np.int64)
+    ints[WindowInt.MODE] = mode
+    return Window(
+        ints=ints,
+        floats=np.zeros(len(WindowFloat)),
+        box=np.zeros(4, dtype=np.int64),
+        ring_index=np.zeros((3, entries), dtype=np.int64),
+        ring_value=np.zeros((N_RING_VALUES, entries)),
+        p0=np.zeros(n_pores),
+        rate=np.zeros(n_pores),
+        far=np.zeros(n_throats, dtype=np.int64),
     )
 
 
@@ -88,9 +139,9 @@ def box_area(box: np.ndarray) -> int:
     return int((box[1] - box[0]) * (box[3] - box[2]))
 
 
-def no_window() -> tuple:
+def no_window() -> Window:
     """A window that is off (the integrators then sweep their whole box)."""
-    return window_arrays(OFF, 0, 0, 0)
+    return window_arrays(Mode.OFF, 0, 0, 0)
 
 
 @njit(helper=True)
@@ -102,53 +153,53 @@ def inside(wbox: np.ndarray, n: int, k: int) -> bool:
 
 
 @njit(helper=True)
-def far_pressure(win: tuple, k: int, t: float) -> float:
+def far_pressure(window: Window, k: int, t: float) -> float:
     """Pore ``k``'s pressure at ``t``, extrapolated from the start of the macro step."""
-    wf, p0, rate = win[1], win[5], win[6]
-    return p0[k] + (t - wf[0]) * rate[k]
+    return window.p0[k] + (t - window.floats[WindowFloat.T0]) * window.rate[k]
 
 
 @njit(helper=True)
-def set_ring(win: tuple, p: np.ndarray, t: float) -> None:
+def set_ring(window: Window, p: np.ndarray, t: float) -> None:
     """Write the ring pores' pressures at ``t`` into ``p``."""
-    wi, wf, ring_i, ring_f = win[0], win[1], win[3], win[4]
-    dt = t - wf[0]
-    for e in range(wi[2]):
-        p[ring_i[1, e]] = ring_f[RING_P0, e] + dt * ring_f[RING_RATE, e]
+    ring_i, ring_f = window.ring_index, window.ring_value
+    dt = t - window.floats[WindowFloat.T0]
+    for e in range(window.ints[WindowInt.N_RING]):
+        p[ring_i[1, e]] = ring_f[Ring.P0, e] + dt * ring_f[Ring.RATE, e]
 
 
 @njit(helper=True)
-def ring_increment(win: tuple, d: np.ndarray, dt: float) -> None:
+def ring_increment(window: Window, d: np.ndarray, dt: float) -> None:
     """Write the ring pores' increments over ``dt`` into ``d`` (a stage's increments)."""
-    wi, ring_i, ring_f = win[0], win[3], win[4]
-    for e in range(wi[2]):
-        d[ring_i[1, e]] = dt * ring_f[RING_RATE, e]
+    ring_i, ring_f = window.ring_index, window.ring_value
+    for e in range(window.ints[WindowInt.N_RING]):
+        d[ring_i[1, e]] = dt * ring_f[Ring.RATE, e]
 
 
 @njit(helper=True)
-def book_explicit(win: tuple, p: np.ndarray, g_eff: np.ndarray, dt: float) -> float:
+def book_explicit(window: Window, p: np.ndarray, g_eff: np.ndarray, dt: float) -> float:
     """Book the volume each ring throat carries out of ``W`` in a forward Euler step of
     ``dt`` from the pressures ``p`` (those of the step's start); return their sum."""
-    wi, ring_i, ring_f = win[0], win[3], win[4]
+    ring_i, ring_f = window.ring_index, window.ring_value
     total = 0.0
-    for e in range(wi[2]):
+    for e in range(window.ints[WindowInt.N_RING]):
         w, r, t = ring_i[0, e], ring_i[1, e], ring_i[2, e]
         v = dt * g_eff[t] * (p[w] - p[r])
-        ring_f[RING_FLUX, e] += v
+        ring_f[Ring.FLUX, e] += v
         total += v
     return total
 
 
 @njit(helper=True)
-def n_entries(wi: np.ndarray) -> int:
-    """Ring entries the shadow sums cover: the ring throats, and in COARSE mode the window's
-    outlet links too."""
-    return wi[2] + (wi[5] if wi[0] == COARSE else 0)
+def n_entries(ints: np.ndarray) -> int:
+    """Ring entries the shadow sums cover (``ints`` is :attr:`Window.ints`): the ring
+    throats, and in COARSE mode the window's outlet links too."""
+    coarse = ints[WindowInt.MODE] == Mode.COARSE
+    return ints[WindowInt.N_RING] + (ints[WindowInt.N_OUTLET] if coarse else 0)
 
 
 @njit(helper=True)
 def shadow_stage(
-    win: tuple,
+    window: Window,
     j: int,
     d_prev: np.ndarray,
     g_eff: np.ndarray,
@@ -164,12 +215,12 @@ def shadow_stage(
     S_{j-2} + c_flux g (d_r - d_w) + c_f0 g (p_r - p_w)`` (``d_prev`` the increments of stage
     ``j - 1``, ``p`` the step's start; ``S_0 = 0``, and stage 1 is ``c_f0`` times the start
     flux); an outlet link's ring pore is the outlet, at 0, with ``g = g_out``. Buffers rotate
-    like the stages': stage ``j`` is row ``RING_SHADOW + (j - 1) % 3``."""
-    wi, ring_i, ring_f = win[0], win[3], win[4]
-    row = RING_SHADOW + (j - 1) % 3
-    prev = RING_SHADOW + (j - 2) % 3
-    prev2 = RING_SHADOW + (j - 3) % 3
-    for e in range(n_entries(wi)):
+    like the stages': stage ``j`` is row ``Ring.SHADOW + (j - 1) % 3``."""
+    ring_i, ring_f = window.ring_index, window.ring_value
+    row = Ring.SHADOW + (j - 1) % 3
+    prev = Ring.SHADOW + (j - 2) % 3
+    prev2 = Ring.SHADOW + (j - 3) % 3
+    for e in range(n_entries(window.ints)):
         w, r, t = ring_i[0, e], ring_i[1, e], ring_i[2, e]
         if r >= 0:
             g = g_eff[t]
@@ -189,24 +240,24 @@ def shadow_stage(
 
 
 @njit(helper=True)
-def book_shadow(win: tuple, m: int, target: int) -> float:
+def book_shadow(window: Window, m: int, target: int) -> float:
     """Book an accepted RKC step of ``m`` stages: its shadow sum leaves ``W``, into row
-    ``target`` of ``ring_f``; return the volume that left."""
-    wi, ring_f = win[0], win[4]
-    row = RING_SHADOW + (m - 1) % 3
+    ``target`` (a :class:`Ring`) of the ring values; return the volume that left."""
+    ring_f = window.ring_value
+    row = Ring.SHADOW + (m - 1) % 3
     total = 0.0
-    for e in range(n_entries(wi)):
+    for e in range(n_entries(window.ints)):
         ring_f[target, e] -= ring_f[row, e]
         total -= ring_f[row, e]
     return total
 
 
 @njit(helper=True)
-def near_open_edge(win: tuple, nbox: np.ndarray, n: int, k: int) -> bool:
+def near_open_edge(window: Window, nbox: np.ndarray, n: int, k: int) -> bool:
     """Whether pore ``k`` lies within the margin of an edge of ``W`` that has a ring (an edge
     that is not also an edge of the active box ``nbox``)."""
-    wi, wbox = win[0], win[2]
-    margin = wi[1]
+    wbox = window.box
+    margin = window.ints[WindowInt.MARGIN]
     i = k // n
     j = k - i * n
     return (
@@ -219,33 +270,31 @@ def near_open_edge(win: tuple, nbox: np.ndarray, n: int, k: int) -> bool:
 
 @njit(helper=True)
 def far_meniscus(
-    win: tuple,
+    window: Window,
     pinv: float,
     margin: float,
     t: float,
-    pe: np.ndarray,
+    entry: np.ndarray,
     tp: np.ndarray,
     drained: np.ndarray,
 ) -> int:
     """The pore of a meniscus outside the window whose pressure difference at ``t``, at
     invading pressure ``pinv``, exceeds its entry pressure less ``margin`` (-1 if none). The
-    list is scanned only when ``pinv + margin`` reaches ``wf[1]``, the least level at which
-    one may do so in the macro step."""
-    wi, wf, far = win[0], win[1], win[7]
-    if pinv + margin < wf[1]:
+    list is scanned only when ``pinv + margin`` reaches ``floats[FAR_LEVEL]``, the least level at
+    which one may do so in the macro step."""
+    if pinv + margin < window.floats[WindowFloat.FAR_LEVEL]:
         return -1
-    for s in range(wi[6]):
-        f = far[s]
+    for s in range(window.ints[WindowInt.N_FAR]):
+        f = window.far[s]
         i = undrained_pore(tp, drained, f)
-        if pinv - far_pressure(win, i, t) > pe[f] - margin:
+        if pinv - far_pressure(window, i, t) > entry[f] - margin:
             return i
     return -1
 
 
 @njit(helper=True)
-def cut(win: tuple, reason: int, k: int) -> int:
-    """Record why the macro step ends and return :data:`CUT`."""
-    wi = win[0]
-    wi[3] = reason
-    wi[4] = k
-    return CUT
+def cut(window: Window, reason: int, k: int) -> int:
+    """Record why the macro step ends (a :class:`Cut`) and return ``Status.CUT``."""
+    window.ints[WindowInt.CUT_REASON] = reason
+    window.ints[WindowInt.CUT_PORE] = k
+    return Status.CUT

@@ -11,7 +11,8 @@ import pytest
 from porenet.builtin.fluids.local_steps import LocalSteps
 from porenet.kernels.viscous import multirate as mk
 from porenet.kernels.viscous.chebyshev import stage_count
-from porenet.kernels.viscous.window import RING_COARSE, RING_FLUX
+from porenet.kernels.viscous.state import Total
+from porenet.kernels.viscous.window import Ring, WindowInt
 from porenet.simulation import Simulation
 
 N = 30
@@ -31,19 +32,21 @@ def fluid():
     )
     sim.fluid.setup(sim.state)
     f = sim.fluid
-    f._box[:] = (0, N, 0, N)
-    f._p[:] = np.random.default_rng(0).uniform(-0.5, 1.0, N * N)
-    f._p[sim.state.drained] = f._acc[1]
-    f.drained = sim.state.drained
+    f.front.box[:] = (0, N, 0, N)
+    f.flow.pressure[:] = np.random.default_rng(0).uniform(-0.5, 1.0, N * N)
+    f.flow.pressure[sim.state.drained] = f.flow.totals[Total.INVADING_PRESSURE]
     return f
 
 
 def _window(fluid, wbox):
     steps = LocalSteps(fluid, 1.0)
     win = steps.win
-    win[2][:] = wbox
-    win[0][2] = mk.window_ring(N, win[2], fluid._box, win[3])
-    win[0][5] = mk.outlet_links(N, fluid._box, fluid._g_out, win[3], win[0][2])
+    win.box[:] = wbox
+    box, ring = fluid.front.box, win.ring_index
+    win.ints[WindowInt.N_RING] = mk.window_ring(N, win.box, box, ring)
+    win.ints[WindowInt.N_OUTLET] = mk.outlet_links(
+        N, box, fluid.conductances.outlet, ring, win.ints[WindowInt.N_RING]
+    )
     return steps, win
 
 
@@ -51,20 +54,20 @@ def test_ring_lists_each_throat_across_the_edge_once(fluid):
     """A box inside the active box has 2 (rows + columns) ring throats, each joining a pore of
     the box to its neighbour outside; the outlet links are the edge pores of the grid."""
     _, win = _window(fluid, np.array([5, 17, 8, 23]))
-    k = int(win[0][2])
+    k = int(win.ints[WindowInt.N_RING])
     assert k == 2 * (12 + 15)
-    tp = fluid._tp
-    for w, r, t in win[3][:, :k].T:
+    tp = fluid.network.throat_pores
+    for w, r, t in win.ring_index[:, :k].T:
         assert {w, r} == set(tp[t].tolist())
         iw, jw, ir, jr = w // N, w % N, r // N, r % N
         assert 5 <= iw < 17 and 8 <= jw < 23
         assert not (5 <= ir < 17 and 8 <= jr < 23)
-    links = win[3][:, k : k + int(win[0][5])]
+    links = win.ring_index[:, k : k + int(win.ints[WindowInt.N_OUTLET])]
     assert np.all(links[1] == -1)
-    assert len(links[0]) == np.count_nonzero(fluid._g_out > 0)
+    assert len(links[0]) == np.count_nonzero(fluid.conductances.outlet > 0)
     # a box on the active box's edge has no ring there
     _, edge = _window(fluid, np.array([0, 10, 0, 30]))
-    assert int(edge[0][2]) == 30
+    assert int(edge.ints[WindowInt.N_RING]) == 30
 
 
 def test_coarse_shadow_sums_book_the_window_exactly(fluid):
@@ -77,26 +80,27 @@ def test_coarse_shadow_sums_book_the_window_exactly(fluid):
     rates = np.array([0.7, 0.3])
     h = 40.0
     m = stage_count(h, fluid.spectral_radius)
-    field = steps._field(fluid._box)
-    menisci0, pump0 = fluid._no_menisci()
-    p1 = np.zeros_like(fluid._p)
+    p, vol, rkc = fluid.flow.pressure, fluid.network.volume, fluid.rkc
+    field = steps.sweep_field(fluid.front.box)
+    menisci0, pump0 = fluid.no_menisci()
+    p1 = np.zeros_like(p)
     ebox = np.zeros(4, dtype=np.int64)
-    outflow = mk.coarse_step(
-        field, fluid._p, win, h, m, sources, rates, fluid._ybuf, fluid._f0, fluid._fnew,
-        fluid._zero, p1, menisci0, pump0, 1e9, ebox,
-    )  # fmt: skip
+    step = mk.CoarseStep(h, m, sources, rates, menisci0, pump0, 1e9)
+    outflow = mk.coarse_step(field, p, win, step, rkc.stages, rkc.f0, rkc.fnew, rkc.zero, p1,
+                             ebox)  # fmt: skip
     inside = np.zeros((N, N), dtype=bool)
     inside[6:20, 4:30] = True
     inside = inside.ravel()
-    gained = float(np.sum((fluid._vol * (p1 - fluid._p))[inside]))
-    k, n_out = int(win[0][2]), int(win[0][5])
-    ring_out = win[4][RING_COARSE, :k].sum()
-    links = win[3][0, k : k + n_out]
-    w_out = win[4][RING_COARSE, k : k + n_out][inside[links]].sum()
+    gained = float(np.sum((vol * (p1 - p))[inside]))
+    k, n_out = int(win.ints[WindowInt.N_RING]), int(win.ints[WindowInt.N_OUTLET])
+    coarse = win.ring_value[Ring.COARSE]
+    ring_out = coarse[:k].sum()
+    links = win.ring_index[0, k : k + n_out]
+    w_out = coarse[k : k + n_out][inside[links]].sum()
     expected = h * rates.sum() - ring_out - w_out
-    scale = float(np.sum(np.abs(fluid._vol * (p1 - fluid._p))[inside]))
+    scale = float(np.sum(np.abs(vol * (p1 - p))[inside]))
     assert abs(gained - expected) < 1e-13 * scale
-    assert w_out > 0 and abs(outflow - win[4][RING_COARSE, k : k + n_out].sum()) < 1e-12
+    assert w_out > 0 and abs(outflow - coarse[k : k + n_out].sum()) < 1e-12
 
 
 def test_far_update_conserves_volume(fluid):
@@ -107,22 +111,22 @@ def test_far_update_conserves_volume(fluid):
     steps, win = _window(fluid, wbox)
     sources = np.array([15 * N + 5], dtype=np.int64)
     h = 25.0
-    field = steps._field(fluid._box)
-    menisci0, pump0 = fluid._no_menisci()
-    p1 = np.zeros_like(fluid._p)
-    mk.coarse_step(
-        field, fluid._p, win, h, stage_count(h, fluid.spectral_radius), sources,
-        np.array([1.0]), fluid._ybuf, fluid._f0, fluid._fnew, fluid._zero, p1, menisci0,
-        pump0, 1e9, np.zeros(4, dtype=np.int64),
-    )  # fmt: skip
-    p = fluid._p.copy()
+    vol, rkc = fluid.network.volume, fluid.rkc
+    field = steps.sweep_field(fluid.front.box)
+    menisci0, pump0 = fluid.no_menisci()
+    p1 = np.zeros_like(fluid.flow.pressure)
+    step = mk.CoarseStep(h, stage_count(h, fluid.spectral_radius), sources, np.array([1.0]),
+                         menisci0, pump0, 1e9)  # fmt: skip
+    mk.coarse_step(field, fluid.flow.pressure, win, step, rkc.stages, rkc.f0, rkc.fnew,
+                   rkc.zero, p1, np.zeros(4, dtype=np.int64))  # fmt: skip
+    p = fluid.flow.pressure.copy()
     mk.start_fine(win, p, p1, field, 0.0, h)
-    k = int(win[0][2])
+    k = int(win.ints[WindowInt.N_RING])
     booked = np.random.default_rng(1).uniform(0.0, 0.02, k)  # what a fine run carried out
-    win[4][RING_FLUX, :k] = booked
+    win.ring_value[Ring.FLUX, :k] = booked
     before = p.copy()
-    stored, outflow, _ = mk.far_update(field, p, p1, fluid._vol, fluid.drained, win, 0.6)
-    change = float(np.sum(fluid._vol * (p - before)))
+    stored, outflow, _ = mk.far_update(field, p, p1, vol, fluid.flow.drained, win, 0.6)
+    change = float(np.sum(vol * (p - before)))
     assert abs(change - stored) < 1e-12
     assert abs(stored + outflow - booked.sum()) < 1e-12
     # inside the window only the refluxed volumes arrive, near its edge (rows 8 and 21,

@@ -16,6 +16,7 @@ from porenet.kernels.viscous.chebyshev import (
     spectral_radius,
     stage_count,
 )
+from porenet.kernels.viscous.state import Sweep
 
 
 def amplification(z_e: float, z_i: float, m: int) -> float:
@@ -104,20 +105,22 @@ def test_grid_and_list_sweeps_agree():
     box = np.array([0, n, 0, n])
     act = np.arange(n * n)
     apos = np.arange(n * n)
+    grid = Sweep(n, box, n * n, act, apos, indptr, nbr, thr, g, g_out, inv_vol, np.zeros(n * n),
+                 box)  # fmt: skip
+    listed = grid._replace(grid_n=0)
     for flux_only in (False, True):
         a, b = np.zeros(n * n), np.zeros(n * n)
-        out_a = grid_stage(n, box, box, g, g_out, inv_vol, y1, y2, f0, coef, a, flux_only)
-        out_b = csr_stage(n * n, act, apos, indptr, nbr, thr, g, g_out, inv_vol, y1, y2, f0,
-                          coef, b, flux_only, np.zeros(n * n))  # fmt: skip
+        out_a = grid_stage(grid, y1, y2, f0, coef, a, flux_only)
+        out_b = csr_stage(listed, y1, y2, f0, coef, b, flux_only)
         np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-13)
         np.testing.assert_allclose(out_a, out_b, rtol=1e-13)
     # the combination itself, against numpy
     flux = np.zeros(n * n)
-    grid_stage(n, box, box, g, g_out, inv_vol, y1, y2, f0, coef, flux, True)
+    grid_stage(grid, y1, y2, f0, coef, flux, True)
     c1, c2, ce, cf = coef
     expected = c1 * y1 + c2 * y2 + (ce * flux + cf * f0) * inv_vol
     out = np.zeros(n * n)
-    grid_stage(n, box, box, g, g_out, inv_vol, y1, y2, f0, coef, out, False)
+    grid_stage(grid, y1, y2, f0, coef, out, False)
     np.testing.assert_allclose(out, expected, rtol=1e-13, atol=1e-13)
 
 

@@ -1,4 +1,5 @@
-"""Backward Euler for the viscous model, sliding menisci and located events (docs/model.md §4).
+"""The implicit integrator of the viscous model: backward Euler, sliding menisci and located
+events (docs/model.md section 4).
 
 Scaled units and equations as in :mod:`porenet.kernels.viscous.explicit`. One step of length ``dt``
 solves, for every undrained pore i (drained pores are decoupled rows that keep their value),
@@ -67,47 +68,71 @@ Decisions (see also docs/stability.md and docs/accuracy.md):
   meniscus fluxes at the start of the step, starts from the start-of-step rate of change of
   ``D``), so that the event lies close to the end of the bracket and the secant locates it
   in one or two solves.
-* Stationary (status 6, pressure control only): over a stable step ``dt_min``, no pressure
+* Stationary (``Status.STATIONARY``, pressure control only): over a stable step ``dt_min``, no
+pressure
   changes by more than ``floor`` (at least 1e-15; the rate is ``(p' - p)/dt`` at the end of
   the last step, exact for backward Euler) and no meniscus moves by more than ``floor`` (in
   units of a; a meniscus sliding into a trapped cluster slows to a stop but stays SLIDE).
 * Active-set iterations are capped at 60 (the last 40 switch one meniscus at a time, the most
   violating one); a step whose states do not settle is retried at a quarter of the length,
-  and below ``1e-9 dt_min`` the run stops with status 7 (:data:`STATUS`).
+  and below ``1e-9 dt_min`` the run stops with ``Status.NOT_SETTLED``.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from enum import IntEnum
+from typing import Any, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from porenet.kernels._jit import njit
-from porenet.kernels.viscous.explicit import STATUS as _EXPLICIT_STATUS
 from porenet.kernels.viscous.explicit import drain_pore
-from porenet.kernels.viscous.menisci import CONTROL_PRESSURE, CONTROL_RAMP, CONTROL_RATE
+from porenet.kernels.viscous.grid_cholesky import (
+    GridFronts,
+    grid_cholesky_factor,
+    grid_cholesky_solve,
+    grid_cholesky_symbolic,
+)
+from porenet.kernels.viscous.pore_matrix import (
+    error_and_storage,
+    fill_diagonal,
+    fill_matrix,
+    pore_matrix_pattern,
+    start_rates,
+)
+from porenet.kernels.viscous.state import (
+    Conductances,
+    Control,
+    Count,
+    Flow,
+    Front,
+    Injection,
+    Network,
+    Records,
+    Status,
+    Stops,
+    Total,
+)
 
 #: Meniscus states (``mstate`` per throat; a latched meniscus is ON or OFF (= ZERO)).
 OFF, SLIDE, ON = 0, 1, 2
 
-#: Status codes of :func:`implicit_advance`: those of the explicit kernel, and one more.
-STATUS = {**_EXPLICIT_STATUS, 7: "meniscus states did not settle"}
 
-#: Slots of the ``ctrl`` array (the integrator's memory between calls).
-CTRL = {
-    "dt": 0,
-    "restart": 1,
-    "last_rate": 2,
-    "solves": 3,
-    "rejected": 4,
-    "factorizations": 5,
-    "located": 6,
-    "iterations": 7,
-}
-N_CTRL = 8
+class Slot(IntEnum):
+    """Slots of :attr:`ImplicitSolver.memory`: the integrator's memory between calls, and its
+    counters."""
+
+    DT = 0  #: the next step (0 before the first call)
+    RESTART = 1  #: 1: the next step restarts (after an event)
+    LAST_RATE = 2  #: the largest |dp/dt| of the last step (stationarity)
+    SOLVES = 3  #: linear solves
+    REJECTED = 4  #: rejected steps
+    FACTORIZATIONS = 5
+    LOCATED = 6  #: events located
+    ITERATIONS = 7  #: active-set iterations
+
 
 #: Set to a list to record one tuple per trial step (debugging and benchmarks).
 TRACE: list | None = None
@@ -118,374 +143,14 @@ _PREDICT_MARGIN = 1.05
 _GROWTH = 5.0
 
 
-# -- the pore matrix ------------------------------------------------------------------------------
-
-
-@njit
-def _pattern_positions(
-    indptr: np.ndarray, nbr: np.ndarray, cptr: np.ndarray, cind: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Positions in the (symmetric, sorted) matrix pattern of each diagonal and each CSR entry."""
-    n = len(indptr) - 1
-    diag = np.empty(n, dtype=np.int64)
-    off = np.empty(len(nbr), dtype=np.int64)
-    for i in range(n):
-        for k in range(cptr[i], cptr[i + 1]):
-            if cind[k] == i:
-                diag[i] = k
-        for e in range(indptr[i], indptr[i + 1]):
-            j = nbr[e]
-            for k in range(cptr[i], cptr[i + 1]):
-                if cind[k] == j:
-                    off[e] = k
-    return diag, off
-
-
-@njit(helper=True)
-def _diagonal(
-    i: int,
-    dt: float,
-    indptr: np.ndarray,
-    thr: np.ndarray,
-    vol: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-) -> float:
-    """Diagonal entry of pore ``i`` in ``K = V/dt + L``: ``V_i/dt + g_out,i + sum_j g_ij``."""
-    total = vol[i] / dt + g_out[i]
-    for e in range(indptr[i], indptr[i + 1]):
-        total += g_eff[thr[e]]
-    return total
-
-
-@njit
-def _fill_matrix(
-    dt: float,
-    indptr: np.ndarray,
-    thr: np.ndarray,
-    vol: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    diag: np.ndarray,
-    off: np.ndarray,
-    data: np.ndarray,
-) -> None:
-    """Values of ``K = V/dt + L`` on the fixed pattern (drained pores: ``V/dt`` alone)."""
-    for i in range(len(indptr) - 1):
-        for e in range(indptr[i], indptr[i + 1]):
-            data[off[e]] = -g_eff[thr[e]]
-        data[diag[i]] = _diagonal(i, dt, indptr, thr, vol, g_eff, g_out)
-
-
-@njit
-def _start_rates(
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    thr: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    vol: np.ndarray,
-    drained: np.ndarray,
-    p: np.ndarray,
-    fpore: np.ndarray,
-    qstart: np.ndarray,
-    rate: np.ndarray,
-) -> float:
-    """``dp_i/dt`` at the start of the step for every pore (0 for drained ones), with the
-    meniscus fluxes ``qstart`` into the frontier pores ``fpore``; returns ``max |dp_i/dt|``."""
-    n = len(indptr) - 1
-    for i in range(n):
-        if drained[i]:
-            rate[i] = 0.0
-            continue
-        pi = p[i]
-        total = -g_out[i] * pi
-        for e in range(indptr[i], indptr[i + 1]):
-            total += g_eff[thr[e]] * (p[nbr[e]] - pi)
-        rate[i] = total
-    for s in range(len(fpore)):
-        rate[fpore[s]] += qstart[s]
-    largest = 0.0
-    for i in range(n):
-        if not drained[i]:
-            rate[i] /= vol[i]
-            largest = max(largest, abs(rate[i]))
-    return largest
-
-
-@njit
-def _error_and_storage(
-    dt: float,
-    drained: np.ndarray,
-    vol: np.ndarray,
-    g_out: np.ndarray,
-    p: np.ndarray,
-    pnew: np.ndarray,
-    rate: np.ndarray,
-) -> tuple[float, float, float, float]:
-    """Over undrained pores: ``max |p' - p - dt f|``, the stored volume change
-    ``sum V (p' - p)``, the outflow rate ``sum g_out p'`` and ``max |p' - p| / dt``."""
-    err = 0.0
-    stored = 0.0
-    out = 0.0
-    largest = 0.0
-    for i in range(len(p)):
-        if drained[i]:
-            continue
-        change = pnew[i] - p[i]
-        err = max(err, abs(change - dt * rate[i]))
-        stored += vol[i] * change
-        out += g_out[i] * pnew[i]
-        largest = max(largest, abs(change))
-    return err, stored, out, largest / dt
-
-
-def pore_matrix_pattern(indptr: np.ndarray, nbr: np.ndarray) -> dict[str, Any]:
-    """The fixed sparsity pattern of the pore matrix (CSC, symmetric, sorted) and the
-    positions of its diagonal and of each adjacency entry, for :func:`_fill_matrix`."""
-    n = len(indptr) - 1
-    adj = sp.csr_matrix((np.ones(len(nbr)), nbr, indptr), shape=(n, n))
-    pattern = (adj + sp.identity(n, format="csr")).tocsc()
-    pattern.sort_indices()
-    cptr = pattern.indptr.astype(np.int64)
-    cind = pattern.indices.astype(np.int64)
-    diag, off = _pattern_positions(indptr, nbr, cptr, cind)
-    return {"indptr": pattern.indptr, "indices": pattern.indices, "diag": diag, "off": off,
-            "data": np.zeros(len(cind)), "n": n}  # fmt: skip
-
-
-# -- sparse Cholesky for canonical square grids (multifrontal, nested dissection) ------------------
-
-#: Largest rectangle of pores factorised as one dense leaf front.
-_LEAF = 9
-
-
-def grid_fronts(n: int, leaf: int = _LEAF) -> list[tuple[list[int], list[int], list[int]]]:
-    """Nested dissection of the ``n x n`` grid (pore ``i n + j``): the fronts in postorder,
-    each ``(S, B, children)``: the pores it eliminates (a separator line, or a whole leaf
-    rectangle), the pores next to its rectangle that later fronts eliminate, its children."""
-    nodes: list[tuple[list[int], list[int], list[int]]] = []
-
-    def rec(r0: int, r1: int, c0: int, c1: int) -> int | None:
-        h, w = r1 - r0, c1 - c0
-        if h <= 0 or w <= 0:
-            return None
-        if h * w <= leaf:
-            sep = [i * n + j for i in range(r0, r1) for j in range(c0, c1)]
-            kids: list[int | None] = []
-        elif w >= h:
-            m = (c0 + c1) // 2
-            kids = [rec(r0, r1, c0, m), rec(r0, r1, m + 1, c1)]
-            sep = [i * n + m for i in range(r0, r1)]
-        else:
-            m = (r0 + r1) // 2
-            kids = [rec(r0, m, c0, c1), rec(m + 1, r1, c0, c1)]
-            sep = [m * n + j for j in range(c0, c1)]
-        border = set()
-        for i in range(r0, r1):
-            for j in (c0 - 1, c1):
-                if 0 <= j < n:
-                    border.add(i * n + j)
-        for j in range(c0, c1):
-            for i in (r0 - 1, r1):
-                if 0 <= i < n:
-                    border.add(i * n + j)
-        nodes.append((sep, sorted(border), [k for k in kids if k is not None]))
-        return len(nodes) - 1
-
-    rec(0, n, 0, n)
-    return nodes
-
-
-def grid_cholesky_symbolic(n: int, indptr: np.ndarray, nbr: np.ndarray) -> dict[str, Any]:
-    """Index arrays of the multifrontal Cholesky of a pore matrix on the ``n x n`` grid."""
-    nodes = grid_fronts(n)
-    count = len(nodes)
-    ns = np.array([len(sep) for sep, _, _ in nodes], dtype=np.int64)
-    nb = np.array([len(b) for _, b, _ in nodes], dtype=np.int64)
-    front_ptr = np.zeros(count + 1, dtype=np.int64)
-    front_ptr[1:] = np.cumsum(ns + nb)
-    front = np.concatenate([np.array(sep + b, dtype=np.int64) for sep, b, _ in nodes])
-    fac_ptr = np.zeros(count + 1, dtype=np.int64)
-    fac_ptr[1:] = np.cumsum((ns + nb) * ns)
-    kid_ptr = np.zeros(count + 1, dtype=np.int64)
-    kids: list[int] = []
-    maps: list[int] = []
-    map_ptr = [0]
-    ent_ptr = [0]
-    ent_a: list[int] = []
-    ent_b: list[int] = []
-    ent_e: list[int] = []
-    for k, (sep, border, children) in enumerate(nodes):
-        pos = {g: a for a, g in enumerate(sep + border)}
-        for c in children:
-            kids.append(c)
-            maps.extend(pos[g] for g in nodes[c][1])
-            map_ptr.append(len(maps))
-        kid_ptr[k + 1] = len(kids)
-        for a, g in enumerate(sep):
-            for e in range(indptr[g], indptr[g + 1]):
-                b = pos.get(int(nbr[e]))
-                if b is not None and b > a:
-                    ent_a.append(a)
-                    ent_b.append(b)
-                    ent_e.append(e)
-        ent_ptr.append(len(ent_a))
-    upd_ptr = np.zeros(count + 1, dtype=np.int64)
-    upd_ptr[1:] = np.cumsum(nb * nb)
-    i64 = np.int64
-    return {
-        "ns": ns, "nb": nb, "front_ptr": front_ptr, "front": front, "fac_ptr": fac_ptr,
-        "kid_ptr": kid_ptr, "kids": np.array(kids, dtype=i64), "map_ptr": np.array(map_ptr, i64),
-        "maps": np.array(maps, dtype=i64), "ent_ptr": np.array(ent_ptr, dtype=i64),
-        "ent_a": np.array(ent_a, dtype=i64), "ent_b": np.array(ent_b, dtype=i64),
-        "ent_e": np.array(ent_e, dtype=i64), "upd_ptr": upd_ptr,
-        "fac": np.empty(fac_ptr[-1]), "upd": np.empty(upd_ptr[-1]), "diag": np.empty(n * n),
-    }  # fmt: skip
-
-
-@njit
-def grid_cholesky_factor(
-    ns: np.ndarray,
-    nb: np.ndarray,
-    front_ptr: np.ndarray,
-    front: np.ndarray,
-    fac_ptr: np.ndarray,
-    kid_ptr: np.ndarray,
-    kids: np.ndarray,
-    map_ptr: np.ndarray,
-    maps: np.ndarray,
-    ent_ptr: np.ndarray,
-    ent_a: np.ndarray,
-    ent_b: np.ndarray,
-    ent_e: np.ndarray,
-    upd_ptr: np.ndarray,
-    diag: np.ndarray,
-    g_eff: np.ndarray,
-    thr: np.ndarray,
-    fac: np.ndarray,
-    upd: np.ndarray,
-) -> None:
-    """Multifrontal Cholesky ``K = L L^T`` of the pore matrix (diagonal ``diag``, off-diagonal
-    ``-g_eff`` of each adjacency entry's throat). Each front holds its separator's columns
-    (``L_SS`` then ``L_BS``, row-major, in ``fac``) and passes its Schur complement on its
-    border (``upd``) to its parent."""
-    for k in range(len(ns)):
-        s = ns[k]
-        m = s + nb[k]
-        b = nb[k]
-        f = np.zeros((m, m))
-        f0 = front_ptr[k]
-        for a in range(s):
-            f[a, a] = diag[front[f0 + a]]
-        for x in range(ent_ptr[k], ent_ptr[k + 1]):
-            f[ent_b[x], ent_a[x]] -= g_eff[thr[ent_e[x]]]
-        for ci in range(kid_ptr[k], kid_ptr[k + 1]):
-            c = kids[ci]
-            bc = nb[c]
-            mp = map_ptr[ci]
-            u0 = upd_ptr[c]
-            for x in range(bc):
-                gx = maps[mp + x]
-                for y in range(x + 1):
-                    gy = maps[mp + y]
-                    if gx >= gy:
-                        f[gx, gy] += upd[u0 + x * bc + y]
-                    else:
-                        f[gy, gx] += upd[u0 + x * bc + y]
-        for j in range(s):
-            d = f[j, j]
-            for t in range(j):
-                d -= f[j, t] * f[j, t]
-            d = np.sqrt(d)
-            f[j, j] = d
-            for i in range(j + 1, m):
-                v = f[i, j]
-                for t in range(j):
-                    v -= f[i, t] * f[j, t]
-                f[i, j] = v / d
-        if b > 0:
-            lb = np.ascontiguousarray(f[s:, :s])
-            prod = np.dot(lb, lb.T)
-            u0 = upd_ptr[k]
-            for x in range(b):
-                for y in range(x + 1):
-                    upd[u0 + x * b + y] = f[s + x, s + y] - prod[x, y]
-        p0 = fac_ptr[k]
-        for i in range(m):
-            for j in range(s):
-                fac[p0 + i * s + j] = f[i, j]
-
-
-@njit
-def grid_cholesky_solve(
-    ns: np.ndarray,
-    nb: np.ndarray,
-    front_ptr: np.ndarray,
-    front: np.ndarray,
-    fac_ptr: np.ndarray,
-    fac: np.ndarray,
-    rhs: np.ndarray,
-) -> np.ndarray:
-    """``K^{-1} rhs`` from :func:`grid_cholesky_factor`."""
-    x = rhs.copy()
-    count = len(ns)
-    for k in range(count):
-        s = ns[k]
-        m = s + nb[k]
-        f0 = front_ptr[k]
-        p0 = fac_ptr[k]
-        for j in range(s):
-            v = x[front[f0 + j]]
-            for t in range(j):
-                v -= fac[p0 + j * s + t] * x[front[f0 + t]]
-            x[front[f0 + j]] = v / fac[p0 + j * s + j]
-        for i in range(s, m):
-            v = 0.0
-            for t in range(s):
-                v += fac[p0 + i * s + t] * x[front[f0 + t]]
-            x[front[f0 + i]] -= v
-    for k in range(count - 1, -1, -1):
-        s = ns[k]
-        m = s + nb[k]
-        f0 = front_ptr[k]
-        p0 = fac_ptr[k]
-        for j in range(s - 1, -1, -1):
-            v = x[front[f0 + j]]
-            for i in range(j + 1, m):
-                v -= fac[p0 + i * s + j] * x[front[f0 + i]]
-            x[front[f0 + j]] = v / fac[p0 + j * s + j]
-    return x
-
-
-@njit
-def _fill_diagonal(
-    dt: float,
-    indptr: np.ndarray,
-    thr: np.ndarray,
-    vol: np.ndarray,
-    g_eff: np.ndarray,
-    g_out: np.ndarray,
-    diag: np.ndarray,
-) -> None:
-    """The diagonal of ``K = V/dt + L`` (the grid Cholesky reads the off-diagonal from
-    ``g_eff``)."""
-    for i in range(len(indptr) - 1):
-        diag[i] = _diagonal(i, dt, indptr, thr, vol, g_eff, g_out)
-
-
 class _GridCholesky:
     """``solve(rhs)`` with the factor of :func:`grid_cholesky_factor` (the SuperLU interface)."""
 
-    def __init__(self, sym: dict[str, Any]) -> None:
-        self.sym = sym
+    def __init__(self, fronts: GridFronts) -> None:
+        self.fronts = fronts
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
-        s = self.sym
-        rhs = np.ascontiguousarray(rhs, dtype=np.float64)
-        return grid_cholesky_solve(
-            s["ns"], s["nb"], s["front_ptr"], s["front"], s["fac_ptr"], s["fac"], rhs
-        )
+        return grid_cholesky_solve(self.fronts, np.ascontiguousarray(rhs, dtype=np.float64))
 
 
 # -- one step's problem ---------------------------------------------------------------------------
@@ -512,18 +177,13 @@ class _Step:
         k = self.k
         pat = k["pattern"]
         if "fronts" in pat:  # canonical grid: the multifrontal Cholesky
-            sym = pat["fronts"]
-            _fill_diagonal(dt, k["indptr"], k["thr"], k["vol"], k["g_eff"], k["g_out"],
-                           sym["diag"])  # fmt: skip
-            grid_cholesky_factor(
-                sym["ns"], sym["nb"], sym["front_ptr"], sym["front"], sym["fac_ptr"],
-                sym["kid_ptr"], sym["kids"], sym["map_ptr"], sym["maps"], sym["ent_ptr"],
-                sym["ent_a"], sym["ent_b"], sym["ent_e"], sym["upd_ptr"], sym["diag"],
-                k["g_eff"], k["thr"], sym["fac"], sym["upd"],
-            )  # fmt: skip
-            self.lu = _GridCholesky(sym)
+            fronts = pat["fronts"]
+            fill_diagonal(dt, k["indptr"], k["thr"], k["vol"], k["g_eff"], k["g_out"],
+                          fronts.diagonal)  # fmt: skip
+            grid_cholesky_factor(fronts, k["g_eff"], k["thr"])
+            self.lu = _GridCholesky(fronts)
         else:
-            _fill_matrix(dt, k["indptr"], k["thr"], k["vol"], k["g_eff"], k["g_out"],
+            fill_matrix(dt, k["indptr"], k["thr"], k["vol"], k["g_eff"], k["g_out"],
                          pat["diag"], pat["off"], pat["data"])  # fmt: skip
             n = pat["n"]
             mat = sp.csc_matrix((pat["data"], pat["indices"], pat["indptr"]), shape=(n, n))
@@ -570,9 +230,9 @@ class _Step:
             wf = np.empty((nf, n_on))
             for a, s in enumerate(on):
                 wf[:, a] = self.column(int(fpore[s]))[fpore]
-            rate_ctl = control == CONTROL_RATE
+            rate_ctl = control == Control.RATE
             size = n_on + (1 if rate_ctl else 0)
-            pinv_new = pinv + k["ramp_rate"] * dt if control == CONTROL_RAMP else pinv
+            pinv_new = pinv + k["ramp_rate"] * dt if control == Control.RAMP else pinv
             q = np.zeros(nf)
             if size > 0:
                 mat = np.zeros((size, size))
@@ -712,74 +372,26 @@ def _switch(
 # -- the stepper ----------------------------------------------------------------------------------
 
 
-def implicit_advance(
-    indptr: np.ndarray,
-    nbr: np.ndarray,
-    thr: np.ndarray,
-    tp: np.ndarray,
-    g_eff: np.ndarray,
-    g_num: np.ndarray,
-    area: np.ndarray,
-    pe: np.ndarray,
-    vol: np.ndarray,
-    g_out: np.ndarray,
-    outlet: np.ndarray,
-    grid_n: int,
-    box: np.ndarray,
-    p: np.ndarray,
-    drained: np.ndarray,
-    ell: np.ndarray,
-    latched: np.ndarray,
-    front: np.ndarray,
-    fpos: np.ndarray,
-    act: np.ndarray,
-    apos: np.ndarray,
-    mstate: np.ndarray,
-    mflux: np.ndarray,
-    ctrl: np.ndarray,
-    acc: np.ndarray,
-    cnt: np.ndarray,
-    order: np.ndarray,
-    via: np.ndarray,
-    series: np.ndarray,
-    cache: dict[str, Any],
-    control: int,
-    q_rate: float,
-    capacity: float,
-    capacity_per_drained: float,
-    ramp_rate: float,
-    latching: bool,
-    ell0: float,
-    dt_min: float,
-    pressure_scale: float,
-    tolerance: float,
-    event_tolerance: float,
-    floor: float,
-    max_events: int,
-    t_end: float,
-    max_steps: int,
-    stop_at_breakthrough: bool,
-    step_budget: int,
-) -> int:
-    """Integrate with backward Euler until ``max_events`` pores drain or another stop.
+class ImplicitSolver(NamedTuple):
+    """The implicit integrator's state between calls and its parameters.
 
-    Returns a :data:`STATUS` code. Arguments as in
-    :func:`porenet.kernels.viscous.explicit.explicit_advance` (the same state arrays, updated in the
-    same way, so both integrators leave the same records), and:
-
-    Parameters
+    Attributes
     ----------
-    mstate : ndarray of int8, shape (M,)
+    states : ndarray of int8, shape (M,)
         State of each frontier meniscus (:data:`OFF`, :data:`SLIDE`, :data:`ON`) at the end of
-        the last step (0 on entry for new menisci).
-    mflux : ndarray of float, shape (M,)
-        Each frontier meniscus' flux over the last step (a sliding meniscus' flux at the
-        start of the next step).
-    ctrl : ndarray of float, shape (:data:`N_CTRL`,)
-        The integrator's memory (:data:`CTRL`): next step, restart flag, last rate, counts of
-        solves, rejected steps and factorisations. ``ctrl[0] = 0`` on the first call.
+        the last step (0 for new menisci).
+    fluxes : ndarray of float64, shape (M,)
+        Each frontier meniscus' flux over the last step (a sliding meniscus' flux at the start
+        of the next step).
+    memory : ndarray of float64, shape (len(Slot),)
+        By :class:`Slot`: next step, restart flag, last rate, counts of solves, rejected steps
+        and factorisations; all 0 before the first call.
     cache : dict
         Holds the pore-matrix pattern between calls (filled on the first call).
+    latching : bool
+        Meniscus rule "latching".
+    new_meniscus : float
+        Length of a new meniscus.
     dt_min : float
         The explicit stability limit: the smallest restart step.
     pressure_scale : float
@@ -790,6 +402,47 @@ def implicit_advance(
     floor : float
         Stationarity threshold (pressure control): see the module docstring.
     """
+
+    states: np.ndarray
+    fluxes: np.ndarray
+    memory: np.ndarray
+    cache: dict[str, Any]
+    latching: bool
+    new_meniscus: float
+    dt_min: float
+    pressure_scale: float
+    tolerance: float
+    event_tolerance: float
+    floor: float
+
+
+def implicit_advance(
+    net: Network,
+    cond: Conductances,
+    flow: Flow,
+    front: Front,
+    records: Records,
+    injection: Injection,
+    stops: Stops,
+    solver: ImplicitSolver,
+) -> int:
+    """Integrate with backward Euler until ``stops.max_events`` pores drain or another stop;
+    returns a :class:`~porenet.kernels.viscous.state.Status`. The same state as
+    :func:`porenet.kernels.viscous.explicit.explicit_advance`, updated in the same way (so
+    both integrators leave the same records), and the integrator's own ``solver``.
+    """
+    indptr, nbr, thr, tp = net.indptr, net.neighbour, net.throat, net.throat_pores
+    vol, outlet, grid_n = net.volume, net.outlet, net.grid_n
+    g_eff, g_num, area, pe, g_out = cond
+    p, drained, ell, latched, acc, cnt = flow
+    mstate, mflux, ctrl, cache = solver.states, solver.fluxes, solver.memory, solver.cache
+    latching, ell0, dt_min = solver.latching, solver.new_meniscus, solver.dt_min
+    control, q_rate, capacity = injection.control, injection.rate, injection.capacity
+    capacity_per_drained, ramp_rate = injection.capacity_per_drained, injection.ramp_rate
+    max_events, t_end, max_steps = stops.max_events, stops.t_end, stops.max_steps
+    stop_at_breakthrough, step_budget = stops.at_breakthrough, stops.step_budget
+    tolerance, event_tolerance = solver.tolerance, solver.event_tolerance
+    pressure_scale, floor = solver.pressure_scale, solver.floor
     if "pattern" not in cache:
         cache["pattern"] = pore_matrix_pattern(indptr, nbr)
         if grid_n > 0 and cache.get("grid_cholesky", True):
@@ -798,26 +451,26 @@ def implicit_advance(
     tol_abs = tolerance * pressure_scale
     rate = np.zeros(n)
     events = 0
-    steps_at_entry = cnt[1]
-    if ctrl[0] <= 0.0:
-        ctrl[0] = dt_min
-        ctrl[1] = 1.0
-        ctrl[2] = math.inf
+    steps_at_entry = cnt[Count.STEPS]
+    if ctrl[Slot.DT] <= 0.0:
+        ctrl[Slot.DT] = dt_min
+        ctrl[Slot.RESTART] = 1.0
+        ctrl[Slot.LAST_RATE] = math.inf
     stationary_floor = max(floor, 1e-15)
     while True:
-        if events >= max_events or cnt[1] - steps_at_entry >= step_budget:
-            return 0
-        t = acc[0]
+        if events >= max_events or cnt[Count.STEPS] - steps_at_entry >= step_budget:
+            return Status.BUDGET
+        t = acc[Total.TIME]
         if t >= t_end:
-            return 2
-        if cnt[1] >= max_steps:
-            return 3
-        nf = int(cnt[2])
+            return Status.END_TIME
+        if cnt[Count.STEPS] >= max_steps:
+            return Status.STEP_LIMIT
+        nf = int(cnt[Count.N_FRONT])
         if nf == 0:
-            return 5
-        pinv = float(acc[1])
-        cap = capacity + capacity_per_drained * acc[7]
-        fthr = front[:nf].copy()
+            return Status.NO_MENISCUS
+        pinv = float(acc[Total.INVADING_PRESSURE])
+        cap = capacity + capacity_per_drained * acc[Total.DRAINED_PORE_VOLUME]
+        fthr = front.throats[:nf].copy()
         fpore = np.where(drained[tp[fthr, 0]], tp[fthr, 1], tp[fthr, 0])
         pe_f = pe[fthr]
         delta0 = pinv - p[fpore]
@@ -847,27 +500,26 @@ def implicit_advance(
         qstart = np.where(st == SLIDE, mflux[fthr], 0.0)
         qstart = np.where(st == ON, g_f * np.maximum(delta0, 0.0), qstart)
         qstart[late] = 0.0
-        largest = _start_rates(indptr, nbr, thr, g_eff, g_out, vol, drained, p, fpore, qstart,
-                               rate)  # fmt: skip
-        if control == CONTROL_RATE:
+        largest = start_rates(net, cond, drained, p, fpore, qstart, rate)
+        if control == Control.RATE:
             rate_inv = (q_rate - float(qstart.sum())) / cap
-        elif control == CONTROL_RAMP:
+        elif control == Control.RAMP:
             rate_inv = ramp_rate
         else:
             rate_inv = 0.0
         if (
-            control == CONTROL_PRESSURE
-            and ctrl[2] * dt_min <= stationary_floor
+            control == Control.PRESSURE
+            and ctrl[Slot.LAST_RATE] * dt_min <= stationary_floor
             and not (newly | (qstart * dt_min > stationary_floor * area[fthr])).any()
         ):
-            return 6
+            return Status.STATIONARY
         # the step to try: controller, restart rule, end time, predicted events
-        dt_ctrl = float(ctrl[0])
-        if ctrl[1] > 0.0:
+        dt_ctrl = float(ctrl[Slot.DT])
+        if ctrl[Slot.RESTART] > 0.0:
             fastest = max(largest, abs(rate_inv))
             guess = tol_abs / fastest if fastest > 0.0 else dt_ctrl
             dt_ctrl = max(1e-6 * dt_min, min(dt_ctrl, guess))
-            ctrl[1] = 0.0
+            ctrl[Slot.RESTART] = 0.0
         dt_try = min(dt_ctrl, t_end - t)
         predicted = _predict(st, free, qstart, ell[fthr], area[fthr], pe_f, delta0, rate_inv,
                              rate[fpore])  # fmt: skip
@@ -884,47 +536,47 @@ def implicit_advance(
         step = _Step(step_k, 1e-10)
         sol = step.solve(dt_try)
         if sol is None:
-            ctrl[0] = 0.25 * dt_try
+            ctrl[Slot.DT] = 0.25 * dt_try
             _count(ctrl, step, rejected=True)
-            if ctrl[0] < 1e-9 * dt_min:
-                cnt[4] = step.failed_at
-                return 7
+            if ctrl[Slot.DT] < 1e-9 * dt_min:
+                cnt[Count.WHERE] = step.failed_at
+                return Status.NOT_SETTLED
             continue
         pnew = step.pressures(sol)
         rate_err = rate
         if late.any():
             rate_err = rate.copy()
             np.add.at(rate_err, fpore[late], sol["q"][late] / vol[fpore[late]])
-        err, _, _, _ = _error_and_storage(dt_try, drained, vol, g_out, p, pnew, rate_err)
+        err, _, _, _ = error_and_storage(dt_try, drained, vol, g_out, p, pnew, rate_err)
         rate_inv_err = rate_inv
-        if control == CONTROL_RATE and late.any():
+        if control == Control.RATE and late.any():
             rate_inv_err -= float(sol["q"][late].sum()) / cap
         err = max(err, abs(sol["pinv"] - pinv - dt_try * rate_inv_err))
         err *= 0.5
         if not math.isfinite(err):
-            cnt[4] = -1
-            return 4
+            cnt[Count.WHERE] = -1
+            return Status.NON_FINITE
         h, h_land, h_start = step.events(sol)
         if TRACE is not None:
             TRACE.append((float(t), dt_try, dt_ctrl, predicted, err / tol_abs, h_land, h_start,
-                          step.factorizations, int(cnt[0])))  # fmt: skip
+                          step.factorizations, int(cnt[Count.EVENTS])))  # fmt: skip
         if err > tol_abs:
-            ctrl[0] = dt_try * max(0.2, 0.9 * math.sqrt(tol_abs / err))
+            ctrl[Slot.DT] = dt_try * max(0.2, 0.9 * math.sqrt(tol_abs / err))
             _count(ctrl, step, rejected=True)
             continue
         grow = _GROWTH if err == 0.0 else min(_GROWTH, 0.9 * math.sqrt(tol_abs / err))
         proposal = dt_try * grow
         if limited:
             proposal = max(proposal, dt_ctrl) if grow >= 1.0 else min(proposal, dt_ctrl)
-        ctrl[0] = proposal
+        ctrl[Slot.DT] = proposal
         located = h <= 0.0
         if located:
-            ctrl[6] += 1
+            ctrl[Slot.LOCATED] += 1
             sol, h = _locate(step, sol, h, event_tolerance)
             if sol is None:
-                cnt[4] = step.failed_at
+                cnt[Count.WHERE] = step.failed_at
                 _count(ctrl, step)
-                return 7
+                return Status.NOT_SETTLED
             pnew = step.pressures(sol)
         _count(ctrl, step)
         # -- accept ---------------------------------------------------------------------------
@@ -948,29 +600,29 @@ def implicit_advance(
             pnew[fpore[s]] += bump
             out_fix += g_out[fpore[s]] * bump
         qsum = float(q.sum())
-        pinv_new = pinv + dt * (q_rate - qsum) / cap if control == CONTROL_RATE else sol["pinv"]
-        _, stored, out, last_rate = _error_and_storage(dt, drained, vol, g_out, p, pnew, rate)
+        pinv_new = pinv + dt * (q_rate - qsum) / cap if control == Control.RATE else sol["pinv"]
+        _, stored, out, last_rate = error_and_storage(dt, drained, vol, g_out, p, pnew, rate)
         out -= out_fix
         und = ~drained
         p[und] = pnew[und]
         new_ell = ell[fthr] - q * dt / area[fthr]
         new_ell[landing] = 0.0
         ell[fthr[moving]] = new_ell[moving]
-        acc[3] += qsum * dt
-        acc[4] += stored
-        acc[5] += out * dt
-        if control == CONTROL_RATE:
-            acc[2] += q_rate * dt
+        acc[Total.DRAINED] += qsum * dt
+        acc[Total.STORED_DEFENDER] += stored
+        acc[Total.OUTFLOW] += out * dt
+        if control == Control.RATE:
+            acc[Total.INJECTED] += q_rate * dt
         else:
-            acc[2] += qsum * dt + cap * (pinv_new - pinv)
-        acc[8] += cap * (pinv_new - pinv)
-        acc[1] = pinv_new
-        acc[0] = t + dt
-        cnt[1] += 1
-        ctrl[2] = last_rate
+            acc[Total.INJECTED] += qsum * dt + cap * (pinv_new - pinv)
+        acc[Total.STORED_RESERVOIR] += cap * (pinv_new - pinv)
+        acc[Total.INVADING_PRESSURE] = pinv_new
+        acc[Total.TIME] = t + dt
+        cnt[Count.STEPS] += 1
+        ctrl[Slot.LAST_RATE] = last_rate
         if not (math.isfinite(pinv_new) and math.isfinite(stored)):
-            cnt[4] = -1
-            return 4
+            cnt[Count.WHERE] = -1
+            return Status.NON_FINITE
         # states for the next step; menisci that reached their threshold are armed
         final = state.copy()
         frozen = ~free
@@ -992,10 +644,7 @@ def implicit_advance(
             i, f = int(fpore[s]), int(fthr[s])
             if drained[i]:
                 continue
-            drain_pore(
-                i, f, indptr, nbr, thr, vol, ell0, g_eff, g_out, grid_n, box, p, drained,
-                ell, latched, front, fpos, act, apos, acc, cnt, order, via, series,
-            )  # fmt: skip
+            drain_pore(i, f, net, cond, flow, front, records, ell0)
             for e in range(indptr[i], indptr[i + 1]):
                 t2 = thr[e]
                 if not drained[nbr[e]]:
@@ -1003,19 +652,19 @@ def implicit_advance(
                     mflux[t2] = 0.0
             events += 1
             if outlet[i]:
-                cnt[5] = 1
+                cnt[Count.BREAKTHROUGH] = 1
                 if stop_at_breakthrough:
-                    ctrl[1] = 1.0
-                    return 1
-        ctrl[1] = 1.0
+                    ctrl[Slot.RESTART] = 1.0
+                    return Status.BREAKTHROUGH
+        ctrl[Slot.RESTART] = 1.0
 
 
 def _count(ctrl: np.ndarray, step: _Step, rejected: bool = False) -> None:
-    ctrl[3] += step.solves
-    ctrl[5] += step.factorizations
-    ctrl[7] += step.iterations
+    ctrl[Slot.SOLVES] += step.solves
+    ctrl[Slot.FACTORIZATIONS] += step.factorizations
+    ctrl[Slot.ITERATIONS] += step.iterations
     if rejected:
-        ctrl[4] += 1
+        ctrl[Slot.REJECTED] += 1
 
 
 def _predict(
