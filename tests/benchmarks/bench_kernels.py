@@ -71,10 +71,12 @@ def current_stages(adjacency, entry, inlets, outlet, trapping: bool) -> dict[str
         (n, np.bool_),
     )
 
+    graph = ip.RankedGraph(indptr, width, pairs, m)
+    stops = ip.InvasionStops(False, n, trapping)
+    work = ip.InvasionWork(order, via, key, target)
+
     def invade():
-        return ip.invade_pairs(
-            indptr, width, pairs, m, inlets, outlet, False, n, trapping, order, via, key, target
-        )
+        return ip.invade_pairs(graph, inlets, outlet, stops, work)
 
     stages = {
         "ranks (sort)": lambda: ip._ranks_into(entry, by_rank, rank, keys),
@@ -88,7 +90,9 @@ def current_stages(adjacency, entry, inlets, outlet, trapping: bool) -> dict[str
 
         def drop():
             o[:], v[:] = order, via  # (~0.1 ms at n = 400)
-            return ip._drop_trapped(indptr, width, pairs, o, v, k, outlet, state, stack, trapped)
+            adjacency = ip.Adjacency(indptr, width, pairs, 2)
+            scratch = ip.TrapWork(state, stack, trapped)
+            return ip._drop_trapped(adjacency, o, v, k, outlet, scratch)
 
         stages["drop trapped"] = drop
     throat = np.empty(k, dtype=np.int64)

@@ -34,7 +34,7 @@ class InvasionPercolation(FluidModel):
         self._indptr, self._neighbours, _ = lat.adjacency
         self._outlet = lat.outlet_mask(at)
         self._entry = ip.entry_pressures(state.apertures)
-        self._online: tuple[np.ndarray, ...] | None = None
+        self._online: Any = None  # porenet.kernels.invasion.online.OnlineState
         if self.context.deformable:
             self._setup_online(state)
             return
@@ -62,13 +62,13 @@ class InvasionPercolation(FluidModel):
 
         lat = self.lattice
         indptr, neighbours, throats = (np.ascontiguousarray(a, np.int64) for a in lat.adjacency)
-        self._csr = (indptr, neighbours, throats)
+        self._graph = ip_online.Graph(indptr, neighbours, throats)
         self._outlet = np.ascontiguousarray(self._outlet, dtype=bool)
         self._online = ip_online.online_state(lat.n_pores, lat.n_throats, max_degree(indptr))
         inlets = np.ascontiguousarray(lat.inlet_pores(self.context.injection.at), np.int64)
-        ip_online.online_start(*self._csr, inlets, self._outlet, self.config.trapping,
-                               *self._online)  # fmt: skip
-        drained = self._online[0] == ip_online.DRAINED
+        ip_online.online_start(self._graph, inlets, self._outlet, self.config.trapping,
+                               self._online)  # fmt: skip
+        drained = self._online.status == ip_online.DRAINED
         pores = np.flatnonzero(drained)
         state.drained[pores] = True
         k = len(pores)
@@ -95,7 +95,7 @@ class InvasionPercolation(FluidModel):
         done = 0
         while done < max_events and not self._exhausted:
             pore, throat, pressure = online_step(
-                *self._csr, self._entry, self._outlet, self.config.trapping, *self._online
+                self._graph, self._entry, self._outlet, self.config.trapping, self._online
             )
             if pore < 0:
                 self._exhausted = True

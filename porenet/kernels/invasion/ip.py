@@ -32,9 +32,10 @@ queued rank, and the pores whose key was just lowered) while it works on the cur
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from porenet.kernels._jit import njit, prefetch
 from porenet.kernels.invasion.bitqueue import (
     queue_insert,
     queue_min,
@@ -42,6 +43,7 @@ from porenet.kernels.invasion.bitqueue import (
     queue_pop_min,
     queue_remove,
 )
+from porenet.kernels.jit import njit, prefetch
 from porenet.kernels.shared.graph import max_degree, rank_pairs
 from porenet.kernels.shared.sorting import rank_order
 
@@ -127,59 +129,96 @@ def _row(indptr: np.ndarray, width: int, p: int) -> tuple[int, int]:
     return 2 * indptr[p], 2 * indptr[p + 1]
 
 
-@njit
-def invade_pairs(
-    indptr: np.ndarray,
-    width: int,
-    pairs: np.ndarray,
-    m: int,
-    inlets: np.ndarray,
-    outlet: np.ndarray,
-    stop_at_outlet: bool,
-    max_steps: int,
-    until_outlets_drained: bool,
-    order: np.ndarray,
-    via: np.ndarray,
-    key: np.ndarray,
-    target: np.ndarray,
-) -> int:
-    """Invasion percolation without trapping, on throats relabelled by rank.
+class RankedGraph(NamedTuple):
+    """The pore graph with every throat relabelled by its rank in entry pressure, in the
+    layout :func:`porenet.kernels.shared.graph.rank_pairs` builds.
 
-    Parameters
+    Attributes
     ----------
     indptr : ndarray of int, shape (N+1,)
         CSR row pointer of the pore adjacency.
     width : int
         Layout of ``pairs``: 0 for CSR order, else the padded row width.
     pairs : ndarray of int, shape (2 * 2M,) or (2 * width * N,)
-        Interleaved (neighbour, throat rank) pairs
-        (:func:`porenet.kernels.shared.graph.rank_pairs`).
-    m : int
-        Number of throats (ranks are ``0 .. m-1``).
-    inlets : ndarray of int64
-        Pores drained at the start, recorded first in the given order.
-    outlet : ndarray of bool, shape (N,)
-        Pores connected to the outlet; breakthrough is the first drained outlet pore.
-    stop_at_outlet : bool
+        Interleaved (neighbour, throat rank) pairs.
+    n_throats : int
+        M (ranks are ``0 .. M-1``).
+    """
+
+    indptr: np.ndarray
+    width: int
+    pairs: np.ndarray
+    n_throats: int
+
+
+class InvasionStops(NamedTuple):
+    """When :func:`invade_pairs` stops.
+
+    Attributes
+    ----------
+    at_outlet : bool
         Stop right after the breakthrough step.
     max_steps : int
         Stop after this many recorded steps (inlets included).
     until_outlets_drained : bool
         Also stop once every outlet pore is drained (with trapping, every later step would
         enter a cluster cut off from the outlet).
-    order : ndarray of int, shape (N,)
-        Output: drained pores in order, in ``order[:K]``.
-    via : ndarray of int, shape (N,)
-        Output: rank of the throat through which each pore was entered (-1 for inlets).
-    key, target : ndarray of int, shapes (N,) and (M,)
-        Scratch space: each pore's smallest rank to a drained pore (-1 once drained), and the
-        pore that each queued rank leads to.
+    """
+
+    at_outlet: bool
+    max_steps: int
+    until_outlets_drained: bool
+
+
+class InvasionWork(NamedTuple):
+    """The output and scratch arrays of :func:`invade_pairs` (int, of one width).
+
+    Attributes
+    ----------
+    order, via : ndarray, shape (N,)
+        Output: drained pores in order, in ``order[:K]``, and the rank of the throat through
+        which each was entered (-1 for inlets).
+    key, target : ndarray, shapes (N,) and (M,)
+        Scratch: each pore's smallest rank to a drained pore (-1 once drained), and the pore
+        that each queued rank leads to.
+    """
+
+    order: np.ndarray
+    via: np.ndarray
+    key: np.ndarray
+    target: np.ndarray
+
+
+@njit
+def invade_pairs(
+    graph: RankedGraph,
+    inlets: np.ndarray,
+    outlet: np.ndarray,
+    stops: InvasionStops,
+    work: InvasionWork,
+) -> int:
+    """Invasion percolation without trapping, on throats relabelled by rank.
+
+    Parameters
+    ----------
+    graph : RankedGraph
+        The throats by rank.
+    inlets : ndarray of int64
+        Pores drained at the start, recorded first in the given order.
+    outlet : ndarray of bool, shape (N,)
+        Pores connected to the outlet; breakthrough is the first drained outlet pore.
+    stops : InvasionStops
+    work : InvasionWork
+        The output (``order``, ``via``) and scratch arrays.
 
     Returns
     -------
     int
         K, the number of steps recorded.
     """
+    indptr, width, pairs, m = graph
+    stop_at_outlet, max_steps, until_outlets_drained = stops
+    order, via, key, target = work
     n = indptr.shape[0] - 1
     none = m  # key of an undrained pore with no drained neighbour: above every rank
     key[:n] = none
@@ -301,19 +340,11 @@ def invade(
     key = np.empty(n, dtype=np.int64)
     target = np.empty(max(m, 1), dtype=np.int64)
     k = invade_pairs(
-        indptr,
-        0,
-        pairs,
-        m,
+        RankedGraph(indptr, 0, pairs, m),
         inlets,
         outlet,
-        stop_at_outlet,
-        max_steps,
-        False,
-        order,
-        via,
-        key,
-        target,
+        InvasionStops(stop_at_outlet, max_steps, False),
+        InvasionWork(order, via, key, target),
     )
     return order[:k].copy(), via[:k].copy()
 
@@ -379,13 +410,12 @@ def invasion_sequence(
     outlet = np.ascontiguousarray(outlet, dtype=np.bool_)
     max_steps = max(int(max_steps), 0)
     limit = n if trapping else max_steps
-    k = invade_pairs(
-        indptr, width, pairs, m, inlets, outlet, stop_at_outlet, limit, trapping, order, via, key,
-        target,
-    )  # fmt: skip
+    graph = RankedGraph(indptr, width, pairs, m)
+    k = invade_pairs(graph, inlets, outlet, InvasionStops(stop_at_outlet, limit, trapping),
+                     InvasionWork(order, via, key, target))  # fmt: skip
     if trapping:
-        state, stack, trapped = work[8:]
-        kept = _drop_trapped(indptr, width, pairs, order, via, k, outlet, state, stack, trapped)
+        adjacency = Adjacency(indptr, width, pairs, 2)
+        kept = _drop_trapped(adjacency, order, via, k, outlet, TrapWork(*work[8:]))
         k = min(kept, max_steps)
     throat = np.empty(k, dtype=np.int64)
     _rank_to_throat(via[:k], by_rank, throat)
@@ -430,31 +460,44 @@ def trapped_steps(
     trapped = np.empty(k, dtype=np.bool_)
     state = np.empty(n, dtype=np.uint8)
     stack = np.empty(max(n, 1), dtype=indptr.dtype)
-    _trapped(indptr, 0, neighbours, 1, order, k, outlet, n_inlets, state, stack, trapped)
+    _trapped(Adjacency(indptr, 0, neighbours, 1), order, k, outlet, n_inlets,
+             TrapWork(state, stack, trapped))  # fmt: skip
     return trapped
+
+
+class Adjacency(NamedTuple):
+    """Where each pore's neighbours are, in either layout: pore ``p``'s neighbours are
+    ``entries[start:start + stride * count:stride]`` with ``(start, count)`` from
+    :func:`_span`: CSR entries scaled by ``stride`` if ``width == 0``, else ``width`` padded
+    slots from ``stride * width * p`` (a padding slot is ``p`` itself, which is harmless)."""
+
+    indptr: np.ndarray
+    width: int
+    entries: np.ndarray
+    stride: int
+
+
+class TrapWork(NamedTuple):
+    """Scratch of the trapping pass: ``state`` and ``stack`` (N), ``trapped`` (K)."""
+
+    state: np.ndarray
+    stack: np.ndarray
+    trapped: np.ndarray
 
 
 @njit
 def _trapped(
-    indptr: np.ndarray,
-    width: int,
-    adjacency: np.ndarray,
-    stride: int,
+    adjacency: Adjacency,
     order: np.ndarray,
     k: int,
     outlet: np.ndarray,
     n_inlets: int,
-    state: np.ndarray,
-    stack: np.ndarray,
-    trapped: np.ndarray,
+    work: TrapWork,
 ) -> None:
-    """:func:`trapped_steps` of ``order[:k]`` into ``trapped[:k]``, on either adjacency layout.
-
-    Pore ``p``'s neighbours are ``adjacency[start:stop:stride]``: CSR entries scaled by
-    ``stride`` if ``width == 0``, else ``width`` padded slots from ``stride * width * p`` (a
-    padding slot is ``p`` itself, which is harmless). ``state`` (N) and ``stack`` (N) are
-    scratch space.
-    """
+    """:func:`trapped_steps` of ``order[:k]`` into ``work.trapped[:k]``, on either adjacency
+    layout."""
+    indptr, width, entries, stride = adjacency
+    state, stack, trapped = work
     n = indptr.shape[0] - 1
     absent, present, connected = 0, 1, 2
     state[:n] = present
@@ -463,16 +506,16 @@ def _trapped(
     for p in range(n):  # the pores never drained
         if state[p] == present and outlet[p]:
             state[p] = connected
-            _flood(indptr, width, adjacency, stride, state, stack, p)
+            _flood(indptr, width, entries, stride, state, stack, p)
     for t in range(k - 1, -1, -1):
         p = order[t]
         if t >= _AHEAD:  # the pores to come are known: start loading their rows now
-            prefetch(adjacency, _span(indptr, width, stride, order[t - _AHEAD])[0])
+            prefetch(entries, _span(indptr, width, stride, order[t - _AHEAD])[0])
         reach = outlet[p]
         if not reach:
             start, count = _span(indptr, width, stride, p)
             for i in range(count):
-                if state[adjacency[start + stride * i]] == connected:
+                if state[entries[start + stride * i]] == connected:
                     reach = True
                     break
         trapped[t] = (not reach) and t >= n_inlets
@@ -480,7 +523,7 @@ def _trapped(
             state[p] = present
             continue
         state[p] = connected  # and so is its cluster
-        _flood(indptr, width, adjacency, stride, state, stack, p)
+        _flood(indptr, width, entries, stride, state, stack, p)
 
 
 @njit(helper=True)
@@ -525,24 +568,21 @@ def _rank_to_throat(via: np.ndarray, by_rank: np.ndarray, throat: np.ndarray) ->
 
 @njit
 def _drop_trapped(
-    indptr: np.ndarray,
-    width: int,
-    pairs: np.ndarray,
+    adjacency: Adjacency,
     order: np.ndarray,
     via: np.ndarray,
     k: int,
     outlet: np.ndarray,
-    state: np.ndarray,
-    stack: np.ndarray,
-    trapped: np.ndarray,
+    work: TrapWork,
 ) -> int:
     """Move the steps of ``order[:k], via[:k]`` that are not trapped (:func:`trapped_steps`)
     to the front, in order; return their number. The leading steps with ``via == -1`` are the
-    inlets. ``state``, ``stack`` and ``trapped`` are scratch space (N, N, K)."""
+    inlets. ``work`` is scratch space (N, N, K)."""
     n_inlets = 0
     while n_inlets < k and via[n_inlets] < 0:
         n_inlets += 1
-    _trapped(indptr, width, pairs, 2, order, k, outlet, n_inlets, state, stack, trapped)
+    _trapped(adjacency, order, k, outlet, n_inlets, work)
+    trapped = work.trapped
     kept = 0
     for t in range(k):
         if not trapped[t]:

@@ -48,12 +48,11 @@ and the queues are linked lists through one array of N entries, so handing one o
 
 Typical use, with entry pressures that change after every step::
 
+    graph = Graph(indptr, neighbours, throats)
     state = online_state(n_pores, n_throats, max_degree(indptr))
-    online_start(indptr, neighbours, throats, inlets, outlet, trapping, *state)
+    online_start(graph, inlets, outlet, trapping, state)
     while True:
-        pore, throat, pressure = online_step(
-            indptr, neighbours, throats, entry, outlet, trapping, *state
-        )
+        pore, throat, pressure = online_step(graph, entry, outlet, trapping, state)
         if pore < 0 or (stop_at_outlet and outlet[pore]):
             break
         ...  # deform the medium, then refresh entry[online_frontier(state)]
@@ -63,9 +62,11 @@ Typical use, with entry pressures that change after every step::
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 from porenet.kernels.shared.graph import max_degree
 
 #: Pore status: defending, in a cluster with an outlet pore.
@@ -102,9 +103,42 @@ _SAFE = 1  # its piece holds an outlet pore
 _CUT = 2  # its piece holds no outlet pore: trapped
 
 
-def online_state(
-    n_pores: int, n_throats: int, degree: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+class Graph(NamedTuple):
+    """The CSR adjacency of the pores, throats in increasing index in each row
+    (:attr:`porenet.core.interfaces.Lattice.adjacency`): pore ``i``'s neighbours are
+    ``neighbours[indptr[i]:indptr[i + 1]]``, through ``throats[...]``."""
+
+    indptr: np.ndarray
+    neighbours: np.ndarray
+    throats: np.ndarray
+
+
+class OnlineState(NamedTuple):
+    """The state of one online invasion (:func:`online_state`; rows and entries by the
+    module's named constants).
+
+    Attributes
+    ----------
+    status : ndarray of uint8, shape (N,)
+        :data:`UNDRAINED`, :data:`DRAINED` or :data:`TRAPPED` for each pore.
+    frontier : ndarray of int64, shape (3, M)
+        The frontier throats, the pore behind each, each throat's column.
+    scratch : ndarray of int64, shape (2, N)
+        Search labels and queue links (also the flood fill's stack).
+    search : ndarray of int64, shape (5, degree)
+        One column per trapping search of a step.
+    counters : ndarray of int64, shape (4,)
+        Frontier size, next label, breakthrough flag, search work.
+    """
+
+    status: np.ndarray
+    frontier: np.ndarray
+    scratch: np.ndarray
+    search: np.ndarray
+    counters: np.ndarray
+
+
+def online_state(n_pores: int, n_throats: int, degree: int) -> OnlineState:
     """Allocate the state of one invasion (initialised by :func:`online_start`).
 
     Parameters
@@ -116,22 +150,17 @@ def online_state(
 
     Returns
     -------
-    status : ndarray of uint8, shape (N,)
-        :data:`UNDRAINED`, :data:`DRAINED` or :data:`TRAPPED` for each pore.
-    frontier : ndarray of int64, shape (3, M)
-        Row 0: the frontier throats, in ``[:counters[0]]``, in no particular order
-        (:func:`online_frontier`); row 1: the undrained pore behind each; row 2: the column of
-        each throat in row 0, -1 if it is not on the frontier.
-    scratch : ndarray of int64, shape (2, N)
-        Search labels (kept between steps) and search queues.
-    search : ndarray of int64, shape (5, degree)
-        Bookkeeping of the searches of one step.
-    counters : ndarray of int64, shape (4,)
-        Number of frontier throats; next search label; 1 once an outlet pore is drained; pores
-        reached by the trapping searches so far (their cost).
+    OnlineState
+        ``status`` (pores' :data:`UNDRAINED`, :data:`DRAINED` or :data:`TRAPPED`);
+        ``frontier``: row 0 the frontier throats, in ``[:counters[0]]``, in no particular
+        order (:func:`online_frontier`), row 1 the undrained pore behind each, row 2 the
+        column of each throat in row 0, -1 if it is not on the frontier; ``scratch``: search
+        labels (kept between steps) and search queues; ``search``: bookkeeping of the searches
+        of one step; ``counters``: number of frontier throats, next search label, 1 once an
+        outlet pore is drained, pores reached by the trapping searches so far (their cost).
     """
     n, m = int(n_pores), int(n_throats)
-    return (
+    return OnlineState(
         np.zeros(n, dtype=np.uint8),
         np.zeros((3, m), dtype=np.int64),
         np.zeros((2, n), dtype=np.int64),
@@ -140,7 +169,7 @@ def online_state(
     )
 
 
-def online_frontier(state: tuple[np.ndarray, ...]) -> np.ndarray:
+def online_frontier(state: OnlineState) -> np.ndarray:
     """The throats now on the frontier, in no particular order.
 
     The next step reads the entry pressures of these throats only, so after the medium deforms
@@ -148,16 +177,15 @@ def online_frontier(state: tuple[np.ndarray, ...]) -> np.ndarray:
 
     Parameters
     ----------
-    state : tuple of ndarray
-        The arrays from :func:`online_state`.
+    state : OnlineState
+        From :func:`online_state`.
 
     Returns
     -------
     ndarray of int64, shape (F,)
         A view into the state, valid until the next step (copy it to keep it).
     """
-    frontier, counters = state[1], state[4]
-    return frontier[_FRONT, : counters[_COUNT]]
+    return state.frontier[_FRONT, : state.counters[_COUNT]]
 
 
 @njit(helper=True)
@@ -197,12 +225,13 @@ def _find(search: np.ndarray, i: int) -> int:
 
 
 @njit(helper=True)
-def _flood(indptr: np.ndarray, neighbours: np.ndarray, throats: np.ndarray, status: np.ndarray,
-           frontier: np.ndarray, scratch: np.ndarray, counters: np.ndarray, start: int, old: int,
-           new: int) -> None:  # fmt: skip
-    """Set ``status`` to ``new`` on ``start`` and on every pore it reaches through pores of
+def _flood(graph: Graph, state: OnlineState, start: int, old: int, new: int) -> None:
+    """Set the status to ``new`` on ``start`` and on every pore it reaches through pores of
     status ``old`` (as ``start``), and drop the throats from them to drained pores from the
     frontier. O(pores reached + their throats)."""
+    indptr, neighbours, throats = graph
+    status, frontier, scratch, counters = (state.status, state.frontier, state.scratch,
+                                           state.counters)  # fmt: skip
     status[start] = new
     scratch[_LINK, 0] = start
     top = 1
@@ -220,14 +249,14 @@ def _flood(indptr: np.ndarray, neighbours: np.ndarray, throats: np.ndarray, stat
 
 
 @njit(helper=True)
-def _trap_after(indptr: np.ndarray, neighbours: np.ndarray, throats: np.ndarray,
-                outlet: np.ndarray, p: int, status: np.ndarray, frontier: np.ndarray,
-                scratch: np.ndarray, search: np.ndarray, counters: np.ndarray) -> None:  # fmt: skip
+def _trap_after(graph: Graph, outlet: np.ndarray, p: int, state: OnlineState) -> None:
     """Trap the defending clusters cut off from the outlet by draining pore ``p``.
 
     Lock-step breadth-first searches from the distinct undrained neighbours of ``p`` (module
     docstring). A pore reached by search ``i`` of this step gets the label ``base + i``.
     """
+    indptr, neighbours = graph.indptr, graph.neighbours
+    status, scratch, search, counters = state.status, state.scratch, state.search, state.counters
     base = counters[_STAMP]
     d = 0
     for e in range(indptr[p], indptr[p + 1]):
@@ -304,23 +333,12 @@ def _trap_after(indptr: np.ndarray, neighbours: np.ndarray, throats: np.ndarray,
                 cur = r
     for i in range(d):
         if search[_PARENT, i] == i and search[_STATE, i] == _CUT:
-            _flood(indptr, neighbours, throats, status, frontier, scratch, counters,
-                   search[_START, i], UNDRAINED, TRAPPED)  # fmt: skip
+            _flood(graph, state, search[_START, i], UNDRAINED, TRAPPED)
 
 
 @njit
 def online_start(
-    indptr: np.ndarray,
-    neighbours: np.ndarray,
-    throats: np.ndarray,
-    inlets: np.ndarray,
-    outlet: np.ndarray,
-    trapping: bool,
-    status: np.ndarray,
-    frontier: np.ndarray,
-    scratch: np.ndarray,
-    search: np.ndarray,
-    counters: np.ndarray,
+    graph: Graph, inlets: np.ndarray, outlet: np.ndarray, trapping: bool, state: OnlineState
 ) -> int:
     """Reset the state and drain the inlets.
 
@@ -330,17 +348,16 @@ def online_start(
 
     Parameters
     ----------
-    indptr, neighbours, throats : ndarray of int
-        CSR adjacency, throats in increasing index in each row
-        (:attr:`porenet.core.interfaces.Lattice.adjacency`).
+    graph : Graph
+        The adjacency.
     inlets : ndarray of int64
         Pores drained at the start; a repeated pore is drained once.
     outlet : ndarray of bool, shape (N,)
         Pores connected to the outlet.
     trapping : bool
         Whether defending clusters cut off from the outlet are trapped.
-    status, frontier, scratch, search, counters : ndarray
-        The state from :func:`online_state`, overwritten.
+    state : OnlineState
+        From :func:`online_state`, overwritten.
 
     Returns
     -------
@@ -348,6 +365,9 @@ def online_start(
         Number of distinct inlets (they are the pores of ``inlets`` in order of first
         appearance, as :func:`porenet.kernels.invasion.ip.invasion_sequence` records them).
     """
+    indptr, neighbours, throats = graph
+    status, frontier, scratch, counters = (state.status, state.frontier, state.scratch,
+                                           state.counters)  # fmt: skip
     n = indptr.shape[0] - 1
     status[:] = UNDRAINED
     frontier[_POS, :] = -1
@@ -365,8 +385,7 @@ def online_start(
                 status[p] = TRAPPED
         for p in range(n):
             if outlet[p] and status[p] == TRAPPED:
-                _flood(indptr, neighbours, throats, status, frontier, scratch, counters, p,
-                       TRAPPED, UNDRAINED)  # fmt: skip
+                _flood(graph, state, p, TRAPPED, UNDRAINED)
     for p in inlets:
         for e in range(indptr[p], indptr[p + 1]):
             if status[neighbours[e]] == UNDRAINED:
@@ -375,11 +394,12 @@ def online_start(
 
 
 @njit(helper=True)
-def _step(indptr: np.ndarray, neighbours: np.ndarray, throats: np.ndarray, entry: np.ndarray,
-          outlet: np.ndarray, trapping: bool, status: np.ndarray, frontier: np.ndarray,
-          scratch: np.ndarray, search: np.ndarray,
-          counters: np.ndarray) -> tuple[int, int, float]:  # fmt: skip
+def _step(
+    graph: Graph, entry: np.ndarray, outlet: np.ndarray, trapping: bool, state: OnlineState
+) -> tuple[int, int, float]:
     """:func:`online_step`, shared with :func:`online_advance`."""
+    indptr, neighbours, throats = graph
+    status, frontier, counters = state.status, state.frontier, state.counters
     count = counters[_COUNT]
     if count == 0:
         return -1, -1, np.nan
@@ -403,24 +423,13 @@ def _step(indptr: np.ndarray, neighbours: np.ndarray, throats: np.ndarray, entry
             _add(frontier, counters, throats[e], q)
     counters[_BROKE] |= outlet[p]
     if trapping:
-        _trap_after(indptr, neighbours, throats, outlet, p, status, frontier, scratch, search,
-                    counters)  # fmt: skip
+        _trap_after(graph, outlet, p, state)
     return p, t_best, v_best
 
 
 @njit
 def online_step(
-    indptr: np.ndarray,
-    neighbours: np.ndarray,
-    throats: np.ndarray,
-    entry: np.ndarray,
-    outlet: np.ndarray,
-    trapping: bool,
-    status: np.ndarray,
-    frontier: np.ndarray,
-    scratch: np.ndarray,
-    search: np.ndarray,
-    counters: np.ndarray,
+    graph: Graph, entry: np.ndarray, outlet: np.ndarray, trapping: bool, state: OnlineState
 ) -> tuple[int, int, float]:
     """Drain one pore: the one behind the frontier throat of smallest entry pressure.
 
@@ -430,16 +439,16 @@ def online_step(
 
     Parameters
     ----------
-    indptr, neighbours, throats : ndarray of int
-        CSR adjacency, as for :func:`online_start`.
+    graph : Graph
+        The adjacency, as for :func:`online_start`.
     entry : ndarray of float64, shape (M,)
         Current entry pressures (any consistent unit); only those of the frontier throats
         (:func:`online_frontier`) are read.
     outlet : ndarray of bool, shape (N,)
     trapping : bool
         As given to :func:`online_start`.
-    status, frontier, scratch, search, counters : ndarray
-        The state, updated in place.
+    state : OnlineState
+        Updated in place.
 
     Returns
     -------
@@ -450,46 +459,34 @@ def online_step(
     pressure : float
         ``entry[throat]`` at this step (NaN if none).
     """
-    return _step(indptr, neighbours, throats, entry, outlet, trapping, status, frontier, scratch,
-                 search, counters)  # fmt: skip
+    return _step(graph, entry, outlet, trapping, state)
 
 
 @njit
 def online_advance(
-    indptr: np.ndarray,
-    neighbours: np.ndarray,
-    throats: np.ndarray,
+    graph: Graph,
     entry: np.ndarray,
     outlet: np.ndarray,
     trapping: bool,
-    status: np.ndarray,
-    frontier: np.ndarray,
-    scratch: np.ndarray,
-    search: np.ndarray,
-    counters: np.ndarray,
+    state: OnlineState,
     max_steps: int,
     stop_at_outlet: bool,
-    order_out: np.ndarray,
-    via_out: np.ndarray,
-    pressure_out: np.ndarray,
+    steps_out: tuple[np.ndarray, np.ndarray, np.ndarray],
 ) -> int:
     """Up to ``max_steps`` steps of :func:`online_step` in one call, with fixed ``entry``.
 
     Parameters
     ----------
-    indptr, neighbours, throats, entry, outlet, trapping
+    graph, entry, outlet, trapping, state
         As for :func:`online_step`.
-    status, frontier, scratch, search, counters : ndarray
-        The state, updated in place.
     max_steps : int
         Steps to take at most (inlets not counted).
     stop_at_outlet : bool
         Stop right after the step that drains an outlet pore, and take no step once one is
         drained (an inlet included): successive calls then give the steps of one call.
-    order_out, via_out : ndarray of int64, shape (>= max_steps,)
-        Output: the pores drained and the throats they were entered through, in ``[:K]``.
-    pressure_out : ndarray of float64, shape (>= max_steps,)
-        Output: the entry pressure of each of those throats.
+    steps_out : (order, via, pressure), ndarrays of shape (>= max_steps,)
+        Output: the pores drained, the throats they were entered through (int64) and the
+        entry pressure of each of those throats (float64), in ``[:K]``.
 
     Returns
     -------
@@ -497,12 +494,12 @@ def online_advance(
         K, the number of steps taken (fewer than ``max_steps`` at breakthrough or when nothing
         is left to invade).
     """
+    order_out, via_out, pressure_out = steps_out
     k = 0
-    if stop_at_outlet and counters[_BROKE]:
+    if stop_at_outlet and state.counters[_BROKE]:
         return 0
     while k < max_steps:
-        p, t, v = _step(indptr, neighbours, throats, entry, outlet, trapping, status, frontier,
-                        scratch, search, counters)  # fmt: skip
+        p, t, v = _step(graph, entry, outlet, trapping, state)
         if p < 0:
             break
         order_out[k] = p
@@ -539,16 +536,15 @@ def online_sequence(
     entry = np.ascontiguousarray(entry, dtype=np.float64)
     outlet = np.ascontiguousarray(outlet, dtype=np.bool_)
     inlets = np.ascontiguousarray(inlets, dtype=np.int64)
+    graph = Graph(indptr, neighbours, throats)
     state = online_state(n, len(entry), max_degree(indptr))
-    k0 = online_start(indptr, neighbours, throats, inlets, outlet, trapping, *state)
+    k0 = online_start(graph, inlets, outlet, trapping, state)
     max_steps = max(int(max_steps), 0)
     order = np.empty(n, dtype=np.int64)
     via = np.full(n, -1, dtype=np.int64)
     order[:k0] = list(dict.fromkeys(inlets.tolist()))  # the distinct inlets, as drained
     pressure = np.empty(n, dtype=np.float64)
-    k = online_advance(
-        indptr, neighbours, throats, entry, outlet, trapping, *state,
-        max(max_steps - k0, 0), stop_at_outlet, order[k0:], via[k0:], pressure,
-    )  # fmt: skip
+    k = online_advance(graph, entry, outlet, trapping, state, max(max_steps - k0, 0),
+                       stop_at_outlet, (order[k0:], via[k0:], pressure))  # fmt: skip
     k = min(k0 + k, max_steps)
     return order[:k].copy(), via[:k].copy()

@@ -39,7 +39,7 @@ def edges(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 def start(adj, n_throats, inlets, outlet, trapping):
     state = io.online_state(len(outlet), n_throats, max_degree(adj[0]))
-    k = io.online_start(*adj, inlets, outlet, trapping, *state)
+    k = io.online_start(io.Graph(*adj), inlets, outlet, trapping, state)
     return state, k
 
 
@@ -99,14 +99,14 @@ def test_online_trapping_and_frontier_after_every_step(edge):
     if edge:
         inlets, outlet = edges(n)
     state, _ = start(adj, len(tp), inlets, outlet, True)
-    status = state[0]
+    status = state.status
     steps = 0
     while True:
         drained = status == io.DRAINED
         enclosed = ip.enclosed_defender(adj[0], adj[1], drained, outlet)
         assert np.array_equal(status == io.TRAPPED, enclosed)
         assert set(io.online_frontier(state).tolist()) == frontier_by_definition(tp, status)
-        pore, throat, pressure = io.online_step(*adj, entry, outlet, True, *state)
+        pore, throat, pressure = io.online_step(io.Graph(*adj), entry, outlet, True, state)
         if pore < 0:
             break
         assert status[pore] == io.DRAINED and pressure == entry[throat]
@@ -114,7 +114,7 @@ def test_online_trapping_and_frontier_after_every_step(edge):
     assert np.all(status != io.UNDRAINED)  # exhausted: every pore drained or trapped
     assert 0 < np.sum(status == io.TRAPPED) < n * n - steps
     before = [a.copy() for a in state]
-    assert io.online_step(*adj, entry, outlet, True, *state)[0] == -1
+    assert io.online_step(io.Graph(*adj), entry, outlet, True, state)[0] == -1
     assert all(np.array_equal(a, b) for a, b in zip(before, state, strict=True))
 
 
@@ -125,12 +125,13 @@ def test_advance_in_chunks_equals_one_call():
     for trapping in (False, True):
         for stop in (False, True):
             state, _ = start(adj, len(tp), centre(n), outlet, trapping)
-            k = io.online_advance(*adj, entry, outlet, trapping, *state, n * n, stop, *out)
+            graph = io.Graph(*adj)
+            k = io.online_advance(graph, entry, outlet, trapping, state, n * n, stop, tuple(out))
             whole = [a[:k].copy() for a in out]
             state, _ = start(adj, len(tp), centre(n), outlet, trapping)
             parts: list[list[np.ndarray]] = [[], [], []]
             while True:
-                j = io.online_advance(*adj, entry, outlet, trapping, *state, 17, stop, *out)
+                j = io.online_advance(graph, entry, outlet, trapping, state, 17, stop, tuple(out))
                 for part, a in zip(parts, out, strict=True):
                     part.append(a[:j].copy())
                 if j < 17:
@@ -197,7 +198,7 @@ def test_entries_changing_between_steps_match_reference(trapping, ties):
             # refresh only the frontier throats, as a mechanical update would
             front = io.online_frontier(state)
             entry[front] = entries[k][front]
-            pore, throat, pressure = io.online_step(*adj, entry, out, trapping, *state)
+            pore, throat, pressure = io.online_step(io.Graph(*adj), entry, out, trapping, state)
             if pore < 0:
                 break
             steps.append((pore, throat, pressure))
