@@ -64,7 +64,7 @@ def main() -> None:
     sim, pressure = build(args.n)
     solid, state0 = sim.solid, sim.state
     mode0 = solid._mode.copy()
-    lines = len(solid._chains[3])
+    lines = len(solid._chains.chain_axis)
 
     def reset() -> object:
         state = copy.deepcopy(state0)
@@ -119,9 +119,11 @@ def main() -> None:
                           1.0, load)  # fmt: skip
         k_c = solid.config.cohesion * solid.k0
 
+        law = mk.ContactLaw(solid.modulus, k_c, solid.k0, 0.0, True, 50)
+
         def sparse() -> None:
-            mk.solve_sparse(solid._springs, solid._axis, solid._fixed, load, h, force,
-                            mode0.copy(), solid.modulus, k_c, solid.k0, True, 50)  # fmt: skip
+            mk.solve_sparse(solid._springs, solid._axis, solid._fixed, load,
+                            mk.SpringState(h, force, mode0.copy()), law)  # fmt: skip
 
         sparse_times = timed(sparse, 3)
         print(

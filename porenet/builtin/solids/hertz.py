@@ -11,6 +11,7 @@ from porenet.builtin.solids.config import HertzConfig
 from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.interfaces import Lattice, RunContext, SolidModel
 from porenet.core.state import State
+from porenet.kernels.mechanics.springs import Stat
 
 
 def scaled_modulus(config: HertzConfig, lattice: Lattice, context: RunContext) -> float:
@@ -83,9 +84,9 @@ class HertzSolid(SolidModel):
             self._pair_particle = self._pair_particle[order]
             self._pair_dir = np.ascontiguousarray(self._pair_dir[order])
             self._pair_ptr = np.searchsorted(self._pair_pore, np.arange(lattice.n_pores + 1))
-            self._particle_chain = ck.particle_chains(
-                self._chains[0], self._chains[1], self._chains[3], len(xy)
-            )
+            self._particle_chain = ck.particle_chains(self._chains, len(xy))
+            self._contacts = ck.PoreContacts(self._pair_ptr, self._pair_particle, self._pair_dir,
+                                             float(config.pressure_area_factor))  # fmt: skip
         self.h0 = 2.0 * config.prestrain
         self.k0 = float(mk.hertz_stiffness(self.h0, self.modulus))
         self.disorder = getattr(lattice.config, "disorder", None)
@@ -102,8 +103,7 @@ class HertzSolid(SolidModel):
         return "chains" if self._chains is not None else "sparse-direct"
 
     def setup(self, state: State) -> None:
-        from porenet.kernels.mechanics import chains as ck
-        from porenet.kernels.mechanics.springs import hertz_force
+        from porenet.kernels.mechanics.springs import ApertureMap, ContactLaw, hertz_force
 
         m = self._springs.shape[0]
         state.spring_compression = np.full(m, self.h0)
@@ -114,7 +114,7 @@ class HertzSolid(SolidModel):
         self._seen = np.zeros(state.n_pores)  # the prestress balances zero pore pressure
         self._changed = np.zeros(m, dtype=np.int64)
         if self._chains is not None:
-            self._dirty = np.zeros(len(self._chains[3]), dtype=bool)
+            self._dirty = np.zeros(len(self._chains.chain_axis), dtype=bool)
         mean = float(self.lattice.mean_aperture)
         self._floor = self.config.aperture_floor * mean
         self._cap = self.config.aperture_cap * mean
@@ -122,7 +122,19 @@ class HertzSolid(SolidModel):
         self._at_cap = np.zeros(m, dtype=bool)
         #: Apertures the particle positions give, before the floor and the cap (a).
         self.geometric_apertures = np.array(state.apertures, dtype=np.float64, copy=True)
-        self._stats = np.zeros(len(ck.STATS))
+        #: From the compressions to the apertures the fluid sees (floor, cap).
+        self.aperture_map = ApertureMap(self.geometric_apertures, state.apertures, self._floor,
+                                        self._cap, self._at_floor, self._at_cap)  # fmt: skip
+        cfg = self.config
+        self.law = ContactLaw(
+            modulus=self.modulus,
+            cohesion_stiffness=cfg.cohesion * self.k0,
+            contact_stiffness=self.k0,
+            foundation_stiffness=cfg.foundation * self.k0,
+            recontact=cfg.recontact == "restore",
+            max_iterations=cfg.max_contact_iterations,
+        )
+        self._stats = np.zeros(len(Stat))
         self.updates = 0
         self.chains_solved = 0
         self.n_removed = 0
@@ -164,11 +176,12 @@ class HertzSolid(SolidModel):
         series["time"].append(state.time)
         series["drained"].append(float(state.n_drained))
         series["removed_springs"].append(float(self.n_removed))
-        series["max_aperture_change"].append(float(self._stats[6]))
-        series["balance_residual"].append(float(self._stats[2]))
-        self.largest_residual = max(self.largest_residual, float(self._stats[2]))
-        self.contact_iterations = max(self.contact_iterations, int(self._stats[0]))
-        self.unsettled += int(self._stats[1])
+        stats = self._stats
+        series["max_aperture_change"].append(float(stats[Stat.LARGEST_CHANGE]))
+        series["balance_residual"].append(float(stats[Stat.RESIDUAL]))
+        self.largest_residual = max(self.largest_residual, float(stats[Stat.RESIDUAL]))
+        self.contact_iterations = max(self.contact_iterations, int(stats[Stat.ITERATIONS]))
+        self.unsettled += int(stats[Stat.UNSETTLED])
         return changed
 
     def _numerical_error(self, state: State, what: str) -> NumericalError:
@@ -186,26 +199,27 @@ class HertzSolid(SolidModel):
         cfg = self.config
         assert self._chains is not None and state.displacement is not None
         threshold = tolerance * self.k0 / cfg.pressure_area_factor if tolerance > 0 else 0.0
-        refreshed = ck.refresh_loads(
-            pore_pressure, self._seen, threshold, self._pair_ptr, self._pair_particle,
-            self._pair_dir, cfg.pressure_area_factor, self._load, self._particle_chain,
-            self._dirty,
-        )  # fmt: skip
+        refreshed = ck.refresh_loads(pore_pressure, self._seen, threshold, self._contacts,
+                                     self._load, self._particle_chain, self._dirty)  # fmt: skip
         if refreshed == 0:
             return None
         stats = self._stats
         ck.solve_chains(
-            *self._chains, self._xy, self._load, self._dirty, state.spring_compression,
-            state.spring_force, self._mode, self.modulus, cfg.cohesion * self.k0, self.k0,
-            cfg.foundation * self.k0, cfg.recontact == "restore", cfg.max_contact_iterations,
-            state.displacement, self.geometric_apertures, state.apertures, self._floor, self._cap,
-            self._at_floor, self._at_cap, self._changed, stats,
+            self._chains, self._xy, self._load, self._dirty, self._spring_state(state), self.law,
+            state.displacement, self.aperture_map, self._changed, stats,
         )  # fmt: skip
-        if stats[ck.STATS["finite"]] == 0:
+        if stats[Stat.FINITE] == 0:
             raise self._numerical_error(state, "displacement")
-        self.chains_solved += int(stats[ck.STATS["solved"]])
-        self.n_removed += int(stats[ck.STATS["opened"]])
-        return self._changed[: int(stats[ck.STATS["changed"]])]
+        self.chains_solved += int(stats[Stat.SOLVED])
+        self.n_removed += int(stats[Stat.OPENED])
+        return self._changed[: int(stats[Stat.CHANGED])]
+
+    def _spring_state(self, state: State) -> Any:
+        """The springs' compressions and forces (in the State) and modes, as the kernels take
+        them (:class:`porenet.kernels.mechanics.springs.SpringState`)."""
+        from porenet.kernels.mechanics.springs import SpringState
+
+        return SpringState(state.spring_compression, state.spring_force, self._mode)
 
     def _update_sparse(self, state: State, pore_pressure: np.ndarray) -> None:
         from porenet.kernels.mechanics import springs as mk
@@ -217,23 +231,27 @@ class HertzSolid(SolidModel):
             pore_pressure, self._pair_pore, self._pair_particle, self._pair_dir,
             cfg.pressure_area_factor, self._load,
         )  # fmt: skip
-        k_f = cfg.foundation * self.k0
+        k_f = self.law.foundation_stiffness
+        springs = self._spring_state(state)
         du, dh, force_new, iterations, unsettled = mk.solve_sparse(
-            self._springs, self._axis, self._fixed, self._load, h, force, self._mode,
-            self.modulus, cfg.cohesion * self.k0, self.k0, cfg.recontact == "restore",
-            cfg.max_contact_iterations, state.displacement, k_f,
+            self._springs, self._axis, self._fixed, self._load, springs, self.law,
+            state.displacement,
         )  # fmt: skip
-        largest, finite = mk.apply_update(
-            dh, force_new, du, h, force, state.displacement, self.geometric_apertures,
-            state.apertures, self._floor, self._cap, self._at_floor, self._at_cap,
-        )  # fmt: skip
+        largest, finite = mk.apply_update(dh, force_new, du, springs, state.displacement,
+                                          self.aperture_map)  # fmt: skip
         if not finite:
             raise self._numerical_error(state, "displacement or force")
         self.n_removed = int(np.count_nonzero(self._mode == mk.OPEN))
         residual = mk.balance_residual(
             self._load, force, self._springs, self._axis, self._fixed, state.displacement, k_f
         )
-        self._stats[:] = (iterations, unsettled, residual, 0, 0, 0, largest, 1)
+        stats = self._stats
+        stats[:] = 0.0
+        stats[Stat.ITERATIONS] = iterations
+        stats[Stat.UNSETTLED] = unsettled
+        stats[Stat.RESIDUAL] = residual
+        stats[Stat.LARGEST_CHANGE] = largest
+        stats[Stat.FINITE] = 1.0
 
     @property
     def removed(self) -> np.ndarray:

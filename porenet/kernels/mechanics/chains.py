@@ -18,18 +18,65 @@ the threshold.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 from porenet.kernels.mechanics.springs import (
     IN_CONTACT,
     OPEN,
     REDUCED_RADIUS,
+    ApertureMap,
+    ContactLaw,
+    SpringState,
+    Stat,
     apply_spring,
     contact_law,
     next_mode,
 )
+
+
+class Chains(NamedTuple):
+    """The lines of springs of an axis-aligned network (:func:`find_chains`).
+
+    Attributes
+    ----------
+    particle_ptr : ndarray of int64, shape (C+1,)
+        Chain c has particles ``chain_particles[particle_ptr[c]:particle_ptr[c+1]]``, in order
+        along the line, the first and last fixed.
+    chain_particles : ndarray of int64, shape (P,)
+    chain_springs : ndarray of int64, shape (P - C,)
+        Chain c has springs ``chain_springs[particle_ptr[c]-c : particle_ptr[c+1]-c-1]``;
+        spring i joins particles i and i+1 of the chain.
+    chain_axis : ndarray of int8, shape (C,)
+        0 for a chain along x, 1 along y.
+    """
+
+    particle_ptr: np.ndarray
+    chain_particles: np.ndarray
+    chain_springs: np.ndarray
+    chain_axis: np.ndarray
+
+
+class PoreContacts(NamedTuple):
+    """Which particles each pore pushes, and how.
+
+    Attributes
+    ----------
+    pair_ptr : ndarray of int, shape (N+1,)
+        Pore i's particle contacts are ``pair_ptr[i]:pair_ptr[i+1]`` of the two arrays below.
+    pair_particle : ndarray of int, shape (P,)
+    pair_direction : ndarray of float64, shape (P, 2)
+        Unit vector from the pore centre towards the particle.
+    area : float
+        ``A_p / a**2``.
+    """
+
+    pair_ptr: np.ndarray
+    pair_particle: np.ndarray
+    pair_direction: np.ndarray
+    area: float
 
 
 def find_chains(
@@ -37,7 +84,7 @@ def find_chains(
     axis: np.ndarray,
     fixed: np.ndarray,
     tolerance: float = 1e-9,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+) -> Chains | None:
     """Split an axis-aligned spring network into chains between fixed particles.
 
     Returns None unless every spring lies along x or y, every free particle has at most two
@@ -46,15 +93,7 @@ def find_chains(
 
     Returns
     -------
-    particle_ptr : (C+1,) int64
-        Chain c has particles ``chain_particles[particle_ptr[c]:particle_ptr[c+1]]``, in order
-        along the line, the first and last fixed.
-    chain_particles : (P,) int64
-    chain_springs : (P - C,) int64
-        Chain c has springs ``chain_springs[particle_ptr[c]-c : particle_ptr[c+1]-c-1]``;
-        spring i joins particles i and i+1 of the chain.
-    chain_axis : (C,) int8
-        0 for a chain along x, 1 along y.
+    Chains or None
     """
     spring_particles = np.asarray(spring_particles, dtype=np.int64)
     along_x = np.abs(axis[:, 1]) <= tolerance * np.abs(axis[:, 0])
@@ -65,7 +104,7 @@ def find_chains(
     out = _chains(spring_particles, along_y.astype(np.int8), np.asarray(fixed, bool), n_particles)
     if out[0][0] < 0:
         return None
-    return out
+    return Chains(*out)
 
 
 @njit
@@ -137,11 +176,10 @@ def _chains(
     )
 
 
-def particle_chains(
-    particle_ptr: np.ndarray, chain_particles: np.ndarray, chain_axis: np.ndarray, n_particles: int
-) -> np.ndarray:
+def particle_chains(chains: Chains, n_particles: int) -> np.ndarray:
     """(n_particles, 2) int64: the chain through each particle along x (column 0) and y
     (column 1), -1 where none (fixed particles are the ends of several chains: -1 too)."""
+    particle_ptr, chain_particles, _, chain_axis = chains
     out = np.full((n_particles, 2), -1, dtype=np.int64)
     for c in range(len(chain_axis)):
         interior = chain_particles[particle_ptr[c] + 1 : particle_ptr[c + 1] - 1]
@@ -154,10 +192,7 @@ def refresh_loads(
     pore_pressure: np.ndarray,
     seen: np.ndarray,
     threshold: float,
-    pair_ptr: np.ndarray,
-    pair_particle: np.ndarray,
-    pair_direction: np.ndarray,
-    area: float,
+    contacts: PoreContacts,
     load: np.ndarray,
     particle_chain: np.ndarray,
     dirty: np.ndarray,
@@ -173,10 +208,7 @@ def refresh_loads(
         Pressure each pore's loads were computed with.
     threshold : float
         Largest pressure lag left in place (gamma/a); a negative value refreshes every pore.
-    pair_ptr : (N+1,) int
-        Pore i's particle contacts are ``pair_ptr[i]:pair_ptr[i+1]`` of the two arrays below.
-    pair_particle, pair_direction, area
-        As for :func:`porenet.kernels.mechanics.springs.pressure_loads`.
+    contacts : PoreContacts
     load : (n_particles, 2) float, in/out
         Fluid forces (gamma a), kept equal to those of ``seen``.
     particle_chain : (n_particles, 2) int
@@ -189,6 +221,7 @@ def refresh_loads(
     int
         Pores refreshed.
     """
+    pair_ptr, pair_particle, pair_direction, area = contacts
     count = 0
     for i in range(seen.shape[0]):
         delta = pore_pressure[i] - seen[i]
@@ -208,44 +241,16 @@ def refresh_loads(
     return count
 
 
-#: Slots of the ``stats`` array :func:`solve_chains` fills.
-STATS = {
-    "iterations": 0,  # largest number of solves of one chain
-    "unsettled": 1,  # chains whose contacts still changed after max_iterations solves
-    "residual": 2,  # largest out-of-balance force left on a solved chain (round-off)
-    "solved": 3,  # chains solved
-    "opened": 4,  # springs that opened minus springs that closed
-    "changed": 5,  # throats whose aperture changed (listed in `changed`)
-    "largest_change": 6,  # largest aperture change (a)
-    "finite": 7,  # 0 if a non-finite value appeared (the chain is then left unchanged)
-}
-
-
 @njit
 def solve_chains(
-    particle_ptr: np.ndarray,
-    chain_particles: np.ndarray,
-    chain_springs: np.ndarray,
-    chain_axis: np.ndarray,
+    chains: Chains,
     particle_coords: np.ndarray,
     load: np.ndarray,
     dirty: np.ndarray,
-    h: np.ndarray,
-    force: np.ndarray,
-    mode: np.ndarray,
-    modulus: float,
-    cohesion_stiffness: float,
-    contact_stiffness: float,
-    foundation_stiffness: float,
-    recontact: bool,
-    max_iterations: int,
+    springs: SpringState,
+    law: ContactLaw,
     displacement: np.ndarray,
-    geometric: np.ndarray,
-    apertures: np.ndarray,
-    floor: float,
-    cap: float,
-    at_floor: np.ndarray,
-    at_cap: np.ndarray,
+    aperture: ApertureMap,
     changed: np.ndarray,
     stats: np.ndarray,
 ) -> None:
@@ -253,7 +258,7 @@ def solve_chains(
 
     Parameters
     ----------
-    particle_ptr, chain_particles, chain_springs, chain_axis
+    chains : Chains
         From :func:`find_chains`.
     particle_coords : (n_particles, 2) float
         Used only to orient each chain.
@@ -261,27 +266,24 @@ def solve_chains(
         Fluid forces on the particles (gamma a).
     dirty : (C,) bool, in/out
         Chains to solve; cleared on return.
-    h, force : (M,) float, in/out
-        Compression (a) and force (gamma a) of each spring.
-    mode : (M,) int8, in/out
-        ``IN_CONTACT`` or ``OPEN`` (``RECONTACT`` is used within an update only).
-    modulus, cohesion_stiffness, contact_stiffness, foundation_stiffness : float
-        ``E*`` (gamma/a), ``k_c``, ``K_0`` and ``k_f`` (gamma); ``k_f`` ties every free
-        particle to its initial position along the chain
-        (:mod:`porenet.kernels.mechanics.springs`, "Foundation").
-    recontact : bool
-        Whether an open spring may close again.
-    max_iterations : int
-        Most contact iterations per chain.
+    springs : SpringState, in/out
+        Compressions, forces and modes (``RECONTACT`` is used within an update only).
+    law : ContactLaw
+        ``k_f`` ties every free particle to its initial position along the chain
+        (:mod:`porenet.kernels.mechanics.springs`, "Foundation"); ``max_iterations`` counts
+        per chain.
     displacement : (n_particles, 2) float, in/out
         Particle displacements (a).
-    geometric, apertures, floor, cap, at_floor, at_cap
+    aperture : ApertureMap
         As for :func:`porenet.kernels.mechanics.springs.apply_spring`.
     changed : (M,) int64, out
-        The throats whose aperture changed, in ``changed[:stats[5]]``.
-    stats : (8,) float, out
-        :data:`STATS`.
+        The throats whose aperture changed, in ``changed[:stats[Stat.CHANGED]]``.
+    stats : (len(Stat),) float, out
+        By :class:`porenet.kernels.mechanics.springs.Stat`.
     """
+    particle_ptr, chain_particles, chain_springs, chain_axis = chains
+    h, force, mode = springs
+    modulus, cohesion_stiffness, contact_stiffness, k_f, recontact, max_iterations = law
     n_chains = chain_axis.shape[0]
     longest = 0
     for c in range(n_chains):
@@ -306,7 +308,6 @@ def solve_chains(
     n_changed = 0
     largest = 0.0
     finite = True
-    k_f = foundation_stiffness
     for c in range(n_chains):
         if not dirty[c]:
             continue
@@ -388,8 +389,7 @@ def solve_chains(
             right = 0.0 if i == n_spr - 1 else v[i]
             dh = left - right
             b[i] = b[i] + k[i] * dh  # the new force
-            delta = apply_spring(s, dh, b[i], h, force, geometric, apertures, floor, cap,
-                                 at_floor, at_cap)  # fmt: skip
+            delta = apply_spring(s, dh, b[i], springs, aperture)
             if delta > 0.0:
                 changed[n_changed] = s
                 n_changed += 1
@@ -401,11 +401,11 @@ def solve_chains(
         for j in range(n_int):
             displacement[chain_particles[p0 + j + 1], ax] += v[j] * d_sign
             residual = max(residual, abs(fp[j] - k_f * v[j] + b[j] - b[j + 1]))
-    stats[0] = worst
-    stats[1] = unsettled
-    stats[2] = residual
-    stats[3] = solved
-    stats[4] = opened
-    stats[5] = n_changed
-    stats[6] = largest
-    stats[7] = 1.0 if finite else 0.0
+    stats[Stat.ITERATIONS] = worst
+    stats[Stat.UNSETTLED] = unsettled
+    stats[Stat.RESIDUAL] = residual
+    stats[Stat.SOLVED] = solved
+    stats[Stat.OPENED] = opened
+    stats[Stat.CHANGED] = n_changed
+    stats[Stat.LARGEST_CHANGE] = largest
+    stats[Stat.FINITE] = 1.0 if finite else 0.0

@@ -71,15 +71,96 @@ stiffness matrix (scipy.sparse) and solves it with a sparse direct solver.
 from __future__ import annotations
 
 import math
+from enum import IntEnum
+from typing import NamedTuple
 
 import numpy as np
 
-from porenet.kernels._jit import njit
+from porenet.kernels.jit import njit
 
 #: R* / a for two equal spheres of radius a.
 REDUCED_RADIUS = 0.5
 
+#: Modes of a spring within an update (module docstring, "Contacts within an update").
 IN_CONTACT, OPEN, RECONTACT = 0, 1, 2
+
+
+class SpringState(NamedTuple):
+    """The springs (contacts) of the solid, one per throat (scaled units).
+
+    Attributes
+    ----------
+    compression : ndarray of float64, shape (M,)
+        Overlap ``h`` of each contact (a).
+    force : ndarray of float64, shape (M,)
+        Normal force (gamma a).
+    mode : ndarray of int8, shape (M,)
+        :data:`IN_CONTACT` or :data:`OPEN` between updates.
+    """
+
+    compression: np.ndarray
+    force: np.ndarray
+    mode: np.ndarray
+
+
+class ContactLaw(NamedTuple):
+    """The contact laws of an update (module docstring).
+
+    Attributes
+    ----------
+    modulus : float
+        ``E*`` (gamma / a).
+    cohesion_stiffness, contact_stiffness, foundation_stiffness : float
+        ``k_c``, ``K_0`` and ``k_f`` (gamma).
+    recontact : bool
+        Whether an open spring may close again.
+    max_iterations : int
+        Most contact iterations (solves) per update.
+    """
+
+    modulus: float
+    cohesion_stiffness: float
+    contact_stiffness: float
+    foundation_stiffness: float
+    recontact: bool
+    max_iterations: int
+
+
+class ApertureMap(NamedTuple):
+    """From the springs' compressions to the throats' apertures (:func:`apply_spring`).
+
+    Attributes
+    ----------
+    geometric : ndarray of float64, shape (M,)
+        The aperture the packing's geometry gives (a), unbounded.
+    apertures : ndarray of float64, shape (M,)
+        The aperture the fluid sees: the geometric one bounded to ``[floor, cap]``.
+    floor, cap : float
+        The bounds (a).
+    at_floor, at_cap : ndarray of bool, shape (M,)
+        Throats that reached a bound.
+    """
+
+    geometric: np.ndarray
+    apertures: np.ndarray
+    floor: float
+    cap: float
+    at_floor: np.ndarray
+    at_cap: np.ndarray
+
+
+class Stat(IntEnum):
+    """Slots of the statistics of an update (:func:`porenet.kernels.mechanics.chains.
+    solve_chains`)."""
+
+    ITERATIONS = 0  #: largest number of solves of one line (or of the system)
+    UNSETTLED = 1  #: lines whose contacts still changed after the last iteration
+    RESIDUAL = 2  #: largest out-of-balance force left on a free particle (round-off)
+    SOLVED = 3  #: lines solved
+    OPENED = 4  #: springs that opened minus springs that closed
+    CHANGED = 5  #: throats whose aperture changed (listed)
+    LARGEST_CHANGE = 6  #: largest aperture change (a)
+    FINITE = 7  #: 0 if a non-finite value appeared
 
 
 def hertz_force(h: np.ndarray | float, modulus: float) -> np.ndarray:
@@ -258,24 +339,18 @@ def solve_sparse(
     axis: np.ndarray,
     fixed: np.ndarray,
     load: np.ndarray,
-    h: np.ndarray,
-    force: np.ndarray,
-    mode: np.ndarray,
-    modulus: float,
-    cohesion_stiffness: float,
-    contact_stiffness: float,
-    recontact: bool,
-    max_iterations: int,
+    springs: SpringState,
+    law: ContactLaw,
     displacement: np.ndarray | None = None,
-    foundation_stiffness: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
     """One mechanical update on any spring network: the same laws and contact iteration as
     :func:`solve_chains`, with the 2-D stiffness matrix of the free particles assembled in
     scipy.sparse and factorised by SuperLU at each contact iteration.
 
-    Parameters are those of :func:`solve_chains` plus ``axis`` ((M, 2) unit vectors,
-    :func:`spring_axes`) and ``fixed`` ((n_particles,) bool). ``mode`` is updated in place.
-    With ``foundation_stiffness`` ``k_f > 0`` (module docstring, "Foundation") the particles'
+    ``spring_particles`` (M, 2) the particles of each spring, ``axis`` ((M, 2) unit vectors,
+    :func:`spring_axes`), ``fixed`` ((n_particles,) bool), ``load`` the fluid forces
+    ((n_particles, 2)). ``springs.mode`` is updated in place. With a foundation
+    (``law.foundation_stiffness`` ``k_f > 0``, module docstring, "Foundation") the particles'
     current total ``displacement`` ((n_particles, 2)) is needed.
 
     Returns
@@ -288,6 +363,8 @@ def solve_sparse(
     from scipy.sparse import coo_matrix
     from scipy.sparse.linalg import splu
 
+    h, force, mode = springs
+    modulus, cohesion_stiffness, contact_stiffness, foundation_stiffness, recontact, max_iter = law
     n_particles = fixed.shape[0]
     dof = np.full((n_particles, 2), -1, dtype=np.int64)
     free = np.flatnonzero(~fixed)
@@ -336,7 +413,7 @@ def solve_sparse(
         new = local.copy()
         if not _next_modes(new, h + dh, recontact):
             break
-        if iterations >= max_iterations:
+        if iterations >= max_iter:
             unsettled = 1
             break
         local = new
@@ -367,31 +444,24 @@ def balance_residual(
 
 @njit(helper=True)
 def apply_spring(
-    s: int,
-    dh: float,
-    force_new: float,
-    h: np.ndarray,
-    force: np.ndarray,
-    geometric: np.ndarray,
-    apertures: np.ndarray,
-    floor: float,
-    cap: float,
-    at_floor: np.ndarray,
-    at_cap: np.ndarray,
+    s: int, dh: float, force_new: float, springs: SpringState, aperture: ApertureMap
 ) -> float:
     """Apply spring ``s``'s solved change: its throat's geometric aperture changes by
-    :func:`aperture_change` (with ``h`` before the update), the aperture the fluid sees becomes
-    it bounded to ``[floor, cap]`` (``at_floor`` / ``at_cap`` mark the bounds reached), then
-    ``h += dh`` and ``force = force_new``. Returns ``|change|`` of the seen aperture."""
+    :func:`aperture_change` (with the compression before the update), the aperture the fluid
+    sees becomes it bounded to ``[floor, cap]`` (``at_floor`` / ``at_cap`` mark the bounds
+    reached), then the compression grows by ``dh`` and the force becomes ``force_new``.
+    Returns ``|change|`` of the seen aperture."""
+    h, force = springs.compression, springs.force
+    geometric, apertures = aperture.geometric, aperture.apertures
     one_minus = 1.0 - 0.5 * h[s]
     geometric[s] += -dh * one_minus / (2.0 * math.sqrt(1.0 + one_minus * one_minus))
     r = geometric[s]
-    if r < floor:
-        r = floor
-        at_floor[s] = True
-    elif r > cap:
-        r = cap
-        at_cap[s] = True
+    if r < aperture.floor:
+        r = aperture.floor
+        aperture.at_floor[s] = True
+    elif r > aperture.cap:
+        r = aperture.cap
+        aperture.at_cap[s] = True
     change = abs(r - apertures[s])
     apertures[s] = r
     h[s] += dh
@@ -404,15 +474,9 @@ def apply_update(
     dh: np.ndarray,
     force_new: np.ndarray,
     du: np.ndarray,
-    h: np.ndarray,
-    force: np.ndarray,
+    springs: SpringState,
     displacement: np.ndarray,
-    geometric: np.ndarray,
-    apertures: np.ndarray,
-    floor: float,
-    cap: float,
-    at_floor: np.ndarray,
-    at_cap: np.ndarray,
+    aperture: ApertureMap,
 ) -> tuple[float, bool]:
     """Apply a solved update of every spring (:func:`apply_spring`) and particle
     (``displacement += du``), in place.
@@ -420,7 +484,7 @@ def apply_update(
     Returns
     -------
     largest_change : float
-        Largest ``|change|`` of ``apertures`` (a).
+        Largest ``|change|`` of the apertures (a).
     finite : bool
         False if any displacement increment or force is not finite (nothing is applied then).
     """
@@ -432,8 +496,7 @@ def apply_update(
             return 0.0, False
     largest = 0.0
     for s in range(dh.shape[0]):
-        change = apply_spring(s, dh[s], force_new[s], h, force, geometric, apertures, floor,
-                              cap, at_floor, at_cap)  # fmt: skip
+        change = apply_spring(s, dh[s], force_new[s], springs, aperture)
         largest = max(largest, change)
     for q in range(du.shape[0]):
         displacement[q, 0] += du[q, 0]

@@ -60,24 +60,26 @@ class Network:
         if solver == "chains":
             h0, du = h.copy(), u0.copy()
             m = len(self.springs)
-            stats = np.zeros(len(ck.STATS))
+            stats = np.zeros(len(mk.Stat))
+            law = mk.ContactLaw(MODULUS, k_c, self.k0, k_f, recontact, 50)
+            apertures = mk.ApertureMap(np.ones(m), np.ones(m), 1e-9, 1e9, np.zeros(m, bool),
+                                       np.zeros(m, bool))  # fmt: skip
             ck.solve_chains(
-                *self.chains, self.xy, load, np.ones(len(self.chains[3]), bool), h, force,
-                mode, MODULUS, k_c, self.k0, k_f, recontact, 50, du, np.ones(m), np.ones(m),
-                1e-9, 1e9, np.zeros(m, bool), np.zeros(m, bool), np.zeros(m, np.int64), stats,
+                self.chains, self.xy, load, np.ones(len(self.chains.chain_axis), bool),
+                mk.SpringState(h, force, mode), law, du, apertures, np.zeros(m, np.int64), stats,
             )  # fmt: skip
-            dh, f_new, unsettled = h - h0, force, stats[ck.STATS["unsettled"]]
+            dh, f_new, unsettled = h - h0, force, stats[mk.Stat.UNSETTLED]
             # the kernel's own residual (per chain) is the global one
             global_residual = mk.balance_residual(
                 load, f_new, self.springs, self.axis, self.fixed, du, k_f
             )
             du = du - u0
-            assert stats[ck.STATS["residual"]] == pytest.approx(global_residual, abs=1e-15)
+            assert stats[mk.Stat.RESIDUAL] == pytest.approx(global_residual, abs=1e-15)
         else:
+            law = mk.ContactLaw(MODULUS, k_c, self.k0, k_f, recontact, 50)
             du, dh, f_new, _, unsettled = mk.solve_sparse(
-                self.springs, self.axis, self.fixed, load, h, force, mode, MODULUS, k_c,
-                self.k0, recontact, 50, u0, k_f,
-            )  # fmt: skip
+                self.springs, self.axis, self.fixed, load, mk.SpringState(h, force, mode), law, u0
+            )
         residual = mk.balance_residual(
             load, f_new, self.springs, self.axis, self.fixed, u0 + du, k_f
         )
@@ -256,8 +258,8 @@ def test_without_recontact_a_floating_particle_is_held_only_by_cohesion():
 def test_lazy_loads_solve_only_the_lines_through_changed_pores():
     n = 9
     net = Network(n)
-    ptr, particles, _, axis = net.chains
-    particle_chain = ck.particle_chains(ptr, particles, axis, len(net.xy))
+    axis = net.chains.chain_axis
+    particle_chain = ck.particle_chains(net.chains, len(net.xy))
     order = np.argsort(net.pair_pore, kind="stable")
     pair_ptr = np.searchsorted(net.pair_pore[order], np.arange(n * n + 1))
     p = np.zeros(n * n)
@@ -266,11 +268,12 @@ def test_lazy_loads_solve_only_the_lines_through_changed_pores():
     p[0] = 1e-4  # a small change in a corner pore
     seen, load = np.zeros(n * n), np.zeros_like(net.xy)
     dirty = np.zeros(len(axis), bool)
-    args = (net.pair_particle[order], net.dirs[order], 1.0, load, particle_chain, dirty)
-    assert ck.refresh_loads(p, seen, 1e-3, pair_ptr, *args) == 1  # the corner pore lags
+    contacts = ck.PoreContacts(pair_ptr, net.pair_particle[order], net.dirs[order], 1.0)
+    args = (contacts, load, particle_chain, dirty)
+    assert ck.refresh_loads(p, seen, 1e-3, *args) == 1  # the corner pore lags
     assert dirty.sum() == 4  # the two lines along x and the two along y through the centre
     np.testing.assert_allclose(load, net.load(np.where(np.arange(n * n) == centre, 0.5, 0)))
     assert seen[0] == 0 and seen[centre] == 0.5
     dirty[:] = False
-    assert ck.refresh_loads(p, seen, 0.0, pair_ptr, *args) == 1  # exact: the corner too
+    assert ck.refresh_loads(p, seen, 0.0, *args) == 1  # exact: the corner too
     np.testing.assert_allclose(load, net.load(p), atol=1e-15)
