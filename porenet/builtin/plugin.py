@@ -13,7 +13,7 @@ from porenet.builtin.classifiers.config import RulesClassifierConfig, TheoryClas
 from porenet.builtin.couplers.config import PressureApertureConfig
 from porenet.builtin.fluids.config import InvasionPercolationConfig, ViscousConfig
 from porenet.builtin.lattices.config import SquareLatticeConfig
-from porenet.builtin.observers.config import ProgressConfig
+from porenet.builtin.observers.config import ProgressConfig, SnapshotsConfig
 from porenet.builtin.solids.config import HertzConfig
 from porenet.builtin.solids.rigid import RigidConfig
 from porenet.hooks import Register, hookimpl
@@ -50,6 +50,7 @@ def porenet_register_couplers(register: Register) -> None:
 @hookimpl
 def porenet_register_observers(register: Register) -> None:
     register(ProgressConfig, "porenet.builtin.observers.progress:Progress")
+    register(SnapshotsConfig, "porenet.builtin.observers.snapshots:Snapshots")
 
 
 @hookimpl

@@ -247,6 +247,12 @@ class FluidModel(ABC):
     #: threads: :mod:`porenet.threads`). A model must give the same results whatever it is.
     call_seconds: float | None = None
 
+    #: Model time (scaled) at which one :meth:`advance` must end, if the model has a time
+    #: (None: none). The Simulation sets it before each call from the observers' triggers
+    #: (:meth:`porenet.core.triggers.Trigger.next_time`: snapshots at given times); a model
+    #: that has no time ignores it.
+    stop_time: float | None = None
+
     def __init__(self, config: ModelConfig, lattice: Lattice, context: RunContext) -> None:
         self.config = config
         self.lattice = lattice
@@ -297,11 +303,11 @@ class FluidModel(ABC):
         return {}
 
     def outputs(self, state: State) -> dict[str, Any]:
-        """Further records, in scaled units, after :meth:`finalize`: optional keys
+        """Further records, in scaled units, after :meth:`finalize`: optional key
         ``"timeseries"`` (dict of 1-D arrays named as in
-        :data:`porenet.result.TIMESERIES_UNITS`) and ``"snapshots"`` (list of dicts with
-        ``time``, ``saturation``, ``invading_pressure``, ``pressure``, ``drained``). The
-        Simulation converts them to SI."""
+        :data:`porenet.result.TIMESERIES_UNITS`). The Simulation converts them to SI.
+        (Snapshots of the fields are an observer's, :mod:`porenet.builtin.observers.
+        snapshots`.)"""
         return {}
 
 

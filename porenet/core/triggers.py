@@ -1,8 +1,9 @@
 """Triggers decide when an observer runs (after HOOMD-blue's triggers).
 
 The simulation asks every trigger how many drainage events may pass before it must fire
-(:meth:`Trigger.events_until_due`) and never lets the fluid model advance further than that in
-one call, so an observer sees exactly the states it asked for and nothing is computed for an
+(:meth:`Trigger.events_until_due`) and at which model time it must fire
+(:meth:`Trigger.next_time`), and never lets the fluid model advance further than either in one
+call, so an observer sees exactly the states it asked for and nothing is computed for an
 observer that never fires.
 """
 
@@ -25,6 +26,11 @@ class Trigger(ABC):
         """Largest number of drainage events that may pass before the next firing, or None."""
         return None
 
+    def next_time(self, state: State) -> float | None:
+        """The model time (scaled) of the next firing, or None: the fluid model's call then
+        ends there (:attr:`porenet.core.interfaces.FluidModel.stop_time`)."""
+        return None
+
     def reset(self) -> None:  # noqa: B027 - optional hook
         """Called once when the run starts."""
 
@@ -36,26 +42,38 @@ class Never(Trigger):
         return False
 
 
-class EveryEvents(Trigger):
-    """Fires whenever at least ``period`` drainage events happened since the last firing."""
+class Schedule(Trigger):
+    """Fires when the drained pores reach each of ``counts`` and when the model time reaches
+    each of ``times`` (scaled; within 1e-12 relative: the fluid model's call ends at that
+    time exactly), in order."""
 
-    def __init__(self, period: int) -> None:
-        if period < 1:
-            raise ValueError("period must be >= 1")
-        self.period = period
-        self._last = 0
+    def __init__(self, counts: list[int] | tuple[int, ...] = (),
+                 times: list[float] | tuple[float, ...] = ()) -> None:  # fmt: skip
+        self.counts = sorted(int(c) for c in counts)
+        self.times = sorted(float(t) for t in times)
+        self.reset()
 
     def reset(self) -> None:
-        self._last = 0
+        self._counts = list(self.counts)
+        self._times = list(self.times)
 
     def fires(self, state: State) -> bool:
-        if state.n_drained - self._last >= self.period:
-            self._last = state.n_drained
-            return True
-        return False
+        due = False
+        while self._counts and state.n_drained >= self._counts[0]:
+            self._counts.pop(0)
+            due = True
+        while self._times and state.time >= self._times[0] * (1 - 1e-12):
+            self._times.pop(0)
+            due = True
+        return due
 
     def events_until_due(self, state: State) -> int | None:
-        return max(1, self.period - (state.n_drained - self._last))
+        if not self._counts:
+            return None
+        return max(self._counts[0] - state.n_drained, 0)
+
+    def next_time(self, state: State) -> float | None:
+        return self._times[0] if self._times else None
 
 
 class EverySeconds(Trigger):

@@ -176,10 +176,13 @@ class ViscousConfig(ModelConfig):
     )
     snapshot_saturations: list[float] = Field(
         default_factory=list,
-        description="Drained fractions (0-1) at which to store the pressure field.",
+        description="Drained fractions (0-1) at which to store the pressure field: a shorthand "
+        "for an [[observers]] table of kind 'snapshots'.",
     )
     snapshot_times: list[float] = Field(
-        default_factory=list, description="Times (s) at which to store the pressure field."
+        default_factory=list,
+        description="Times (s) at which to store the pressure field: a shorthand for an "
+        "[[observers]] table of kind 'snapshots'.",
     )
 
     @model_validator(mode="after")
