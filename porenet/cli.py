@@ -149,9 +149,9 @@ def _report(args: argparse.Namespace, name: str, result: Any) -> None:
         if result.path is not None:
             print(f"run file: {result.path}")
     if args.plot:
-        from porenet.viz.pattern import save_figure
+        from porenet.viz.pattern import plot_pattern, save_figure
 
-        save_figure(result.plot(), args.plot)
+        save_figure(plot_pattern(result.data), args.plot)
         if not args.quiet:
             print(f"figure: {args.plot}")
 
@@ -193,7 +193,7 @@ def _configure_threads(value: str | None) -> None:
 
 
 def cmd_compile(args: argparse.Namespace) -> int:
-    from porenet.compilation import compile_all
+    from porenet.warmup import compile_all
 
     t0 = time.perf_counter()
 

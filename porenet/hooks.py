@@ -16,7 +16,8 @@ when a scene selects the kind. Third-party kinds must be namespaced (``"mypackag
 
 Loading policy
 --------------
-* Built-in kinds are registered through these same hooks by :mod:`porenet.builtin.plugin`.
+* Built-in kinds are registered through these same hooks by :mod:`porenet.builtin.plugin`,
+  loaded by name (:data:`BUILTIN_PLUGINS`) in the same loop as the entry points.
 * Entry points of the group ``porenet.plugins`` are loaded one by one; a plugin that fails to
   import or to register is reported and skipped, unless loading is strict (``strict=True``, or
   the environment variable ``PORENET_STRICT_PLUGINS=1``, or ``CI=true``), in which case the
@@ -32,6 +33,7 @@ Hooks are never called in the simulation loop.
 
 from __future__ import annotations
 
+import importlib
 import logging
 import os
 from collections.abc import Callable
@@ -48,6 +50,9 @@ log = logging.getLogger(__name__)
 
 PROJECT = "porenet"
 ENTRY_POINT_GROUP = "porenet.plugins"
+#: porenet's own plugins: name -> module, loaded by name first in :func:`build_registry`'s
+#: loop (docs/architecture.md, rule 1).
+BUILTIN_PLUGINS: dict[str, str] = {BUILTIN_PACKAGE: "porenet.builtin.plugin"}
 
 hookspec = pluggy.HookspecMarker(PROJECT)
 hookimpl = pluggy.HookimplMarker(PROJECT)
@@ -139,14 +144,11 @@ def build_registry(
         ``{name: module}`` registered as if they came from entry points (for tests and for
         authors trying a plugin before packaging it).
     """
-    from porenet.builtin import plugin as builtin_plugin
-
     strict = _env_strict() if strict is None else strict
     registry = Registry()
     pm = pluggy.PluginManager(PROJECT)
     pm.add_hookspecs(HookSpecs)
-    packages: dict[str, str] = {BUILTIN_PACKAGE: BUILTIN_PACKAGE}
-    pm.register(builtin_plugin, name=BUILTIN_PACKAGE)
+    packages: dict[str, str] = {}
 
     def fail(name: str, message: str, exc: BaseException | None = None) -> None:
         if strict:
@@ -154,7 +156,12 @@ def build_registry(
         log.warning("%s (plugin skipped)", message)
         registry.failures.append((name, message))
 
-    candidates: list[tuple[str, str, Callable[[], Any]]] = []
+    # the built-ins first, by module name, in the same loop as any plugin (as pytest's default
+    # plugins): nothing here imports them, so they may import this module
+    candidates: list[tuple[str, str, Callable[[], Any]]] = [
+        (name, BUILTIN_PACKAGE, lambda module=module: importlib.import_module(module))
+        for name, module in BUILTIN_PLUGINS.items()
+    ]
     for ep in _selected_entry_points():
         dist = ep.dist.name if ep.dist is not None else ep.value.split(":")[0]
         candidates.append((ep.name, dist, ep.load))
@@ -168,6 +175,8 @@ def build_registry(
         try:
             pm.register(load(), name=name)
         except Exception as exc:  # isolate one broken plugin from the others
+            if dist == BUILTIN_PACKAGE:
+                raise  # porenet itself is broken: no point going on
             fail(name, f"plugin {name!r} from package {dist!r} failed to load: {exc}", exc)
             continue
         packages[name] = dist
@@ -219,12 +228,3 @@ def get_registry() -> Registry:
     if _REGISTRY is None:
         _REGISTRY = build_registry()
     return _REGISTRY
-
-
-def reset_registry(registry: Registry | None = None) -> None:
-    """Replace (or, with None, forget) the process-wide registry; for tests."""
-    global _REGISTRY
-    _REGISTRY = registry
-    from porenet.config import scene as _scene
-
-    _scene.scene_model.cache_clear()

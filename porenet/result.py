@@ -13,8 +13,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
-
     from porenet.core.interfaces import Lattice
     from porenet.core.plan import Plan
     from porenet.core.state import State
@@ -199,9 +197,3 @@ class RunResult:
         """Final drained mask, as a grid when the lattice has one."""
         d = self.data
         return d.as_grid(d.drained) if d.grid_shape else d.drained
-
-    def plot(self, **kwargs: Any) -> Figure:
-        """The drained pattern coloured by drainage order (see :func:`porenet.viz.plot_pattern`)."""
-        from porenet.viz import plot_pattern
-
-        return plot_pattern(self.data, **kwargs)

@@ -21,7 +21,7 @@ from porenet.core.interfaces import (
     RunContext,
     SolidModel,
 )
-from porenet.core.plan import Plan, make_plan
+from porenet.core.plan import Plan, make_plan, plan_summary
 from porenet.core.registry import Registry
 from porenet.core.state import State
 from porenet.core.units import Scales
@@ -100,7 +100,7 @@ class Simulation:
             self.coupler = coupler_entry.load()(scene.solid, self.context)  # type: ignore[misc]
             self.fluid.step_limit = self.coupler.max_steps()
         self.observers: list[Observer] = []
-        for obs_config in scene.observers:
+        for obs_config in (*scene.observers, *_shorthand_observers(scene.fluid)):
             self.observers.append(self.registry.get("observer", obs_config.kind).load()(obs_config))
         self.observers.extend(observers)
         #: Labels the pattern at the end (scene section ``[classifier]``), if the plan asks.
@@ -214,9 +214,8 @@ class Simulation:
         self.threads = (
             ThreadGovernor(thread_setting()) if self.fluid.parallel_work() is not None else None
         )
-        #: The solid's fields at each of the fluid's snapshots (deformable media).
-        self._solid_snapshots: list[dict[str, np.ndarray]] = []
         self._started = True
+        self._observe()  # those due at once (a saturation the inlets already reach)
 
     def _iterate(self) -> None:
         """One call of the fluid model, the coupling that follows it and the observers."""
@@ -234,10 +233,11 @@ class Simulation:
                 exchanged = self.coupler.exchange(state, self.solid, events)
             if exchanged:
                 self.fluid.apertures_changed(state, self.coupler.changed_throats)
-        if self.solid is not None:
-            snaps = getattr(self.fluid, "snapshots", ())
-            while len(self._solid_snapshots) < len(snaps):
-                self._solid_snapshots.append(self.solid.snapshot(state))
+        self._observe()
+
+    def _observe(self) -> None:
+        """Show the State to the observers whose trigger fires now."""
+        state = self.state
         for obs in self.observers:
             if obs.trigger.fires(state):
                 obs.observe(state)
@@ -366,6 +366,10 @@ class Simulation:
         """One call of the fluid model, on the threads the governor picks, aiming at its
         wall time (:mod:`porenet.threads`)."""
         fluid, governor, notice = self.fluid, self.threads, self.compile_notice
+        times = [
+            t for obs in self.observers if (t := obs.trigger.next_time(self.state)) is not None
+        ]
+        fluid.stop_time = min(times) if times else None
         if governor is None:
             fluid.call_seconds = CALL_SECONDS
             with notice.phase(phase):
@@ -451,6 +455,7 @@ class Simulation:
         if self.threads is not None:
             summary.update(self.threads.summary())
         summary["compile_time_s"] = self.compile_notice.compiled_seconds
+        summary.update(plan_summary(self.plan))
         from porenet.analysis.suspect import suspect_physics
 
         suspect = suspect_physics(summary, len(lat.throat_pores))
@@ -503,12 +508,14 @@ class Simulation:
         }
 
     def _outputs(self) -> dict[str, Any]:
-        """The fluid model's time series and snapshots (:meth:`FluidModel.outputs`) in SI."""
+        """The fluid model's time series (:meth:`FluidModel.outputs`) and the snapshot
+        observers' records (:mod:`porenet.builtin.observers.snapshots`), in SI."""
+        from porenet.builtin.observers.snapshots import Snapshots
         from porenet.result import Snapshot
 
         sc = self.scales
         raw = self.fluid.outputs(self.state)
-        solid = getattr(self, "_solid_snapshots", [])
+        records = [r for obs in self.observers if isinstance(obs, Snapshots) for r in obs.records]
         unit = {"time": sc.time or 1.0, "invading_pressure": sc.pressure}
         for name in ("injected", "drained", "stored", "outflow", "released"):
             unit[name] = sc.volume
@@ -517,7 +524,7 @@ class Simulation:
             out["timeseries"] = {
                 k: np.asarray(v) * unit.get(k, 1.0) for k, v in raw["timeseries"].items()
             }
-        if "snapshots" in raw:
+        if records:
             out["snapshots"] = [
                 Snapshot(
                     time=snap["time"] * unit["time"],
@@ -525,11 +532,23 @@ class Simulation:
                     invading_pressure=snap["invading_pressure"] * sc.pressure,
                     pressure=snap["pressure"] * sc.pressure,
                     drained=snap["drained"],
-                    mechanics=self._solid_si(solid[i]) if i < len(solid) else {},
+                    mechanics=self._solid_si(snap["mechanics"]),
                 )
-                for i, snap in enumerate(raw["snapshots"])
+                for snap in records
             ]
         return out
+
+
+def _shorthand_observers(fluid_config: Any) -> list[Any]:
+    """Observers a fluid config asks for through shorthand fields: the viscous model's
+    ``snapshot_saturations`` and ``snapshot_times`` are one ``snapshots`` observer."""
+    saturations = getattr(fluid_config, "snapshot_saturations", None) or []
+    times = getattr(fluid_config, "snapshot_times", None) or []
+    if not saturations and not times:
+        return []
+    from porenet.builtin.observers.config import SnapshotsConfig
+
+    return [SnapshotsConfig(saturations=list(saturations), times=list(times))]
 
 
 def run(

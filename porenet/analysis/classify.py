@@ -84,12 +84,18 @@ def _without_fracturing(
     return Classification(regime, 0.5 * float(verdict.confidence), verdict.details), note
 
 
-def _theory(data: RunData) -> tuple[Classification | None, str]:
-    """The theory predictor's verdict, or None and why the scene determines none."""
-    from porenet.builtin.classifiers.theory import TheoryClassifier
+#: The classifier kind that stands in when another cannot judge a pattern.
+FALLBACK_KIND = "theory"
 
+
+def _theory(data: RunData) -> tuple[Classification | None, str]:
+    """The fallback classifier's verdict (kind :data:`FALLBACK_KIND`, looked up in the
+    registry like any kind), or None and why the scene determines none."""
+    from porenet.hooks import get_registry
+
+    fallback = get_registry().get("classifier", FALLBACK_KIND).load()
     try:
-        return TheoryClassifier().classify(data), ""
+        return fallback(None).classify(data), ""
     except ValueError as exc:
         return None, str(exc)
 

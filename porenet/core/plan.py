@@ -172,7 +172,7 @@ def make_plan(
         progress=progress,
         numbers=numbers,
         regime=predicted_regime(scene, numbers),
-        cost=_cost(scene),
+        cost=estimated_cost(scene),
     )
 
 
@@ -190,7 +190,7 @@ def _classifier_plan(scene: Any, registry: Registry) -> ModelPlan:
     )
 
 
-def _cost(scene: Any) -> CostEstimate:
+def estimated_cost(scene: Any) -> CostEstimate:
     """The cost estimate; a kind the model cannot read gives "unknown", never an error."""
     try:
         return estimate_cost(scene)
@@ -260,3 +260,21 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     if nf is not None:
         numbers[FRACTURING_NUMBER] = float(nf)
     return numbers
+
+
+#: The keys of :func:`plan_summary` in a run's ``/summary``.
+PLAN_KEYS = ("plan_ca_star", "plan_fracturing_number", "plan_regime", "plan_regime_confidence")
+
+
+def plan_summary(plan: Plan) -> dict[str, Any]:
+    """What the plan predicted, for the run's ``/summary`` (docs/run-file.md): Ca*, N_f, the
+    regime and its confidence (the regime ``""`` and the others None, not written, where the
+    scene determines none). Stored with the run, so that classifying its run file needs
+    nothing but the file (the ``theory`` classifier reads them)."""
+    regime = plan.regime
+    return {
+        "plan_ca_star": plan.numbers.get(CA_STAR),
+        "plan_fracturing_number": plan.numbers.get(FRACTURING_NUMBER),
+        "plan_regime": "" if regime is None else regime[0],
+        "plan_regime_confidence": None if regime is None else float(regime[1]),
+    }

@@ -174,3 +174,27 @@ def test_plain_fr_without_a_vote_takes_the_theory_prediction(ip_file):
     verdict = classify_run(read_run(ip_file), _Says("FR"), "stub")
     assert verdict["regime"] == "CF"  # the theory's label for this slow, rigid scene
     assert verdict["regime_confidence"] == pytest.approx(0.4)
+
+
+def test_classifying_a_run_file_needs_only_the_file(tmp_path, monkeypatch):
+    """The plan's prediction is stored with the run (``plan_*`` in /summary), and the theory
+    classifier reads it: classifying the file plans nothing again."""
+    from porenet.builtin.classifiers.theory import TheoryClassifier
+    from porenet.io.runfile import read_run
+    from porenet.simulation import Simulation
+
+    scene = {"seed": 3, "lattice": {"n": 20, "disorder": 0.3},
+             "fluid": {"kind": "viscous", "capillary_number": 1e-4}}  # fmt: skip
+    path = tmp_path / "run.h5"
+    Simulation.from_scene(scene, output=path).run()
+    data = read_run(path)
+    assert data.summary["plan_regime"] in ("CF", "VF", "CF/VF")
+    assert data.summary["plan_ca_star"] > 0
+
+    def no_planning(*args, **kwargs):
+        raise AssertionError("planned again")
+
+    monkeypatch.setattr("porenet.core.plan.make_plan", no_planning)
+    verdict = TheoryClassifier().classify(data)
+    assert verdict.regime == data.summary["plan_regime"]
+    assert verdict.confidence == data.summary["plan_regime_confidence"]

@@ -135,11 +135,11 @@ def test_run_says_at_once_what_it_runs_and_quiet_silences_it(write_scene, tmp_pa
 
 
 def test_compile_command(capsys, monkeypatch):
-    from porenet import compilation
+    from porenet import warmup
 
-    tiny = (compilation.WARM_UPS[0],)
-    monkeypatch.setattr(compilation, "WARM_UPS", tiny)
-    monkeypatch.setattr(compilation.compile_all, "__defaults__", (None, tiny, 1))
+    tiny = (warmup.WARM_UPS[0],)
+    monkeypatch.setattr(warmup, "WARM_UPS", tiny)
+    monkeypatch.setattr(warmup.compile_all, "__defaults__", (None, tiny, 1))
     assert main(["compile"]) == 0
     out = capsys.readouterr().out
     assert "invasion percolation:" in out and "porenet compile:" in out

@@ -6,8 +6,9 @@ import io
 
 import numba
 
-from porenet.compilation import WARM_UPS, CompileNotice
+from porenet.compilation import CompileNotice
 from porenet.config.loading import load_scene
+from porenet.warmup import WARM_UPS
 
 
 def _fresh_kernel():

@@ -1,0 +1,117 @@
+"""Compiling every kernel ahead of time (``porenet compile``), by running tiny scenes.
+
+For an install on a cluster or in a container image: afterwards no run on the machine compiles
+(``tests/verification/test_compile_all.py``). Apart from :mod:`porenet.compilation` because it
+runs simulations, and the simulation uses that module's compile notices.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from porenet.compilation import watch
+
+
+@dataclass(frozen=True)
+class WarmUp:
+    """A tiny scene whose run calls a group of kernels (for :func:`compile_all`)."""
+
+    name: str
+    scene: dict[str, Any]
+    #: Take macro steps of local time steps even where their cost model prefers single-rate
+    #: steps (a tiny lattice), so that their kernels compile too.
+    macro_steps: bool = False
+
+
+def _scene(fluid: dict[str, Any], n: int = 12, **sections: Any) -> dict[str, Any]:
+    scene: dict[str, Any] = {
+        "seed": 1,
+        "lattice": {"kind": "square", "n": n, "disorder": 0.3, "pore_size": 1e-7},
+        "fluid": fluid,
+    }
+    scene.update(sections)
+    return scene
+
+
+_VISCOUS = {"kind": "viscous", "capillary_number": 1e-3}
+_HERTZ = {"kind": "hertz", "fracturing_number": 1.0}
+
+#: Scenes that together call every kernel of the built-in kinds.
+WARM_UPS: tuple[WarmUp, ...] = (
+    WarmUp("invasion percolation", _scene({"kind": "invasion-percolation"})),
+    WarmUp(
+        "invasion percolation without trapping",
+        _scene({"kind": "invasion-percolation", "trapping": False}, stop={"at": "complete"}),
+    ),
+    WarmUp("viscous model, explicit integrator", _scene(_VISCOUS | {"integrator": "explicit"})),
+    WarmUp("viscous model, rkc integrator", _scene(_VISCOUS | {"integrator": "rkc"})),
+    WarmUp(
+        "viscous model, rkc integrator with local time steps",
+        _scene(
+            _VISCOUS | {"capillary_number": 1e-5, "integrator": "rkc", "local_steps": "on"},
+            n=32,
+            stop={"max_drained": 40},
+        ),
+        macro_steps=True,
+    ),
+    WarmUp("viscous model, implicit integrator", _scene(_VISCOUS | {"integrator": "implicit"})),
+    WarmUp(
+        "invasion percolation in a Hertz solid",
+        _scene({"kind": "invasion-percolation"}, solid=_HERTZ),
+    ),
+    WarmUp("viscous model in a Hertz solid", _scene(_VISCOUS, solid=_HERTZ)),
+    WarmUp(
+        "Hertz solid, sparse direct solver",
+        _scene({"kind": "invasion-percolation"}, solid=_HERTZ | {"solver": "sparse-direct"}),
+    ),
+)
+
+
+def warm_up(warm: WarmUp) -> float:
+    """Run one warm-up scene; return the seconds this process spent compiling for it."""
+    from porenet.builtin.fluids.local_steps import LocalSteps
+    from porenet.simulation import Simulation
+
+    w = watch()
+    before = w.seconds
+    gain = LocalSteps.gain
+    try:
+        if warm.macro_steps:
+            LocalSteps.gain = float("inf")
+        Simulation.from_scene(warm.scene).run()
+    finally:
+        LocalSteps.gain = gain
+    return w.seconds - before
+
+
+def compile_all(
+    on_done: Callable[[str, float], None] | None = None,
+    warm_ups: tuple[WarmUp, ...] = WARM_UPS,
+    jobs: int = 1,
+) -> float:
+    """Compile (or load from the cache) every kernel of the built-in kinds by running
+    :data:`WARM_UPS`, in ``jobs`` processes at once (numba writes its cache atomically, so
+    processes may share it); calls ``on_done(name, seconds_compiling)`` after each. Returns
+    the seconds spent compiling in all (0 when the cache held everything)."""
+    total = 0.0
+    if jobs <= 1:
+        for warm in warm_ups:
+            spent = warm_up(warm)
+            total += spent
+            if on_done is not None:
+                on_done(warm.name, spent)
+        return total
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    context = multiprocessing.get_context("spawn")  # numba's threads are not fork-safe
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+        futures = {pool.submit(warm_up, warm): warm.name for warm in warm_ups}
+        for future in as_completed(futures):
+            spent = future.result()
+            total += spent
+            if on_done is not None:
+                on_done(futures[future], spent)
+    return total
