@@ -137,7 +137,7 @@ class LocalExecutor(Executor):
 PR_SET_PDEATHSIG = 1
 
 
-def _parent_death_signal(sig: int) -> bool:
+def parent_death_signal(sig: int) -> bool:
     """Ask Linux to send ``sig`` to this process when its parent dies; False if not done."""
     if not sys.platform.startswith("linux"):
         return False
@@ -168,7 +168,7 @@ def die_with_parent(parent_pid: int) -> None:
     """
     with contextlib.suppress(ValueError, OSError):  # not the main thread / no SIGINT here
         signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if not _parent_death_signal(signal.SIGKILL):
+    if not parent_death_signal(signal.SIGKILL):
         threading.Thread(target=_watch_parent, args=(parent_pid,), daemon=True).start()
     if os.getppid() != parent_pid:  # the parent died before the kernel was asked
         os._exit(1)

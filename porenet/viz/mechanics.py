@@ -39,7 +39,7 @@ def spring_segments(data: RunData, springs: np.ndarray) -> np.ndarray:
     return np.stack([mid - across, mid + across], axis=1)
 
 
-def _throat_image(data: RunData, values: np.ndarray, fill: bool = True) -> np.ndarray:
+def throat_image(data: RunData, values: np.ndarray, fill: bool = True) -> np.ndarray:
     """Doubled grid (2R+1, 2C+1): pore (i, j) at pixel (2i+1, 2j+1), particle (i, j) at
     (2i, 2j), and the throat between two 4-neighbour pores on the pixel between them.
 
@@ -104,7 +104,7 @@ def plot_aperture_change(
     wide = (extent[0] - half, extent[1] + half, extent[2] + half, extent[3] - half)
     bound = max(float(np.max(np.abs(change))), 1e-12)
     norm = SymLogNorm(10.0 ** (np.floor(np.log10(bound)) - 2), vmin=-bound, vmax=bound)
-    image = _throat_image(data, change)
+    image = throat_image(data, change)
     im = ax.imshow(image, cmap=cmap, norm=norm, extent=wide, interpolation="nearest", zorder=0)
     fig.colorbar(im, ax=ax, label=r"aperture change $r / r_0 - 1$ (-)", shrink=0.85)
     if pattern:

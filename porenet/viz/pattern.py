@@ -18,10 +18,6 @@ if TYPE_CHECKING:  # pragma: no cover
 COLOR_BY = ("order", "time")
 
 
-def _length_unit(length_m: float) -> tuple[str, float]:
-    return length_unit(length_m)
-
-
 def grid_axes(
     data: RunData, ax: Axes | None, figsize: tuple[float, float] = (5.0, 4.3)
 ) -> tuple[Figure, Axes, tuple, str]:

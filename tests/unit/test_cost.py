@@ -18,7 +18,7 @@ from porenet.core.cost import (
     fracture_weight,
     ip_drained_fraction,
 )
-from porenet.core.plan import _cost as plan_cost
+from porenet.core.plan import estimated_cost as plan_cost
 from porenet.core.plan import make_plan
 from porenet.hooks import get_registry
 from porenet.simulation import Simulation

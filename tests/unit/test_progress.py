@@ -49,15 +49,25 @@ def test_log_lines_when_not_a_terminal(scene_dict):
     assert not progress.terminal
 
 
-def test_a_log_line_at_least_every_log_seconds():
+def _attached(progress: Progress, n_pores: int, time_scale: float | None = None) -> None:
+    """Attach ``progress`` to a stand-in for a run of ``n_pores`` pores (no plan: no ETA
+    unless the progress was given an expected count)."""
+    run = SimpleNamespace(lattice=SimpleNamespace(n_pores=n_pores),
+                          scales=SimpleNamespace(time=time_scale), plan=None)  # fmt: skip
+    progress.attach(run)
+
+
+def test_a_log_line_at_least_every_log_seconds(monkeypatch):
+    clock = [1000.0]
+    monkeypatch.setattr(time, "perf_counter", lambda: clock[0])
     stream = io.StringIO()
     progress = Progress(stream=stream)  # no expected count: only the clock
-    progress._total = 100
+    _attached(progress, 100)
     state = SimpleNamespace(n_drained=3, time=0.0, step=0)
-    progress._t0 = time.perf_counter() - 1.0
+    clock[0] += 1.0
     progress.observe(state)
     assert stream.getvalue() == ""
-    progress._t0 = time.perf_counter() - LOG_SECONDS - 1.0
+    clock[0] += LOG_SECONDS
     progress.observe(state)
     progress.observe(state)  # not again until another LOG_SECONDS
     assert stream.getvalue().count("\n") == 1 and "drained         3 / 100" in stream.getvalue()
@@ -93,7 +103,7 @@ def test_eta_only_when_meaningful():
 
 def test_status_shows_model_time_and_eta():
     progress = Progress(stream=FakeTTY(), expected_drained=1000)
-    progress._total, progress._time_scale = 10_000, 1e-3
+    _attached(progress, 10_000, time_scale=1e-3)
     state = SimpleNamespace(n_drained=500, time=2.0, step=77)
     line = progress.status(state, elapsed=20.0)
     assert "t = 2.000e-03 s, step 77" in line and "ETA ~ 20 s (est.)" in line

@@ -252,7 +252,7 @@ def test_a_second_sweep_on_the_same_directory_is_refused_at_once(tmp_path, sweep
 WATCHED = """
 import os, signal, sys, time
 import porenet.sweep.executors as executors
-executors._parent_death_signal = lambda sig: False
+executors.parent_death_signal = lambda sig: False
 executors.die_with_parent(int(sys.argv[1]))
 assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
 print(os.getpid(), flush=True)
@@ -267,7 +267,7 @@ time.sleep(60)
 """
 
 
-def test_without_a_parent_death_signal_a_watcher_thread_ends_the_worker(tmp_path):
+def test_without_aparent_death_signal_a_watcher_thread_ends_the_worker(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(Path(porenet.__file__).parents[1]))
     parent = subprocess.Popen(
         [sys.executable, "-c", PARENT, WATCHED], stdout=subprocess.PIPE, text=True, env=env,

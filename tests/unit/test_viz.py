@@ -14,7 +14,7 @@ from porenet.cli import main
 from porenet.io.runfile import read_run
 from porenet.viz import PLOT_KINDS, make_figure, plot_fractal_fit, plot_pattern, save_figure
 from porenet.viz.figures import missing
-from porenet.viz.mechanics import _throat_image, aperture_change, spring_segments
+from porenet.viz.mechanics import aperture_change, spring_segments, throat_image
 from porenet.viz.style import format_pressure, length_unit, scene_title, time_unit, volume_unit
 
 IP = {"kind": "invasion-percolation"}
@@ -158,7 +158,7 @@ def test_mechanics_map_places_throats_and_removed_springs(runs):
     data = read_run(runs["hertz"])
     change = aperture_change(data)
     np.testing.assert_allclose(change, data.final_apertures / data.apertures - 1)
-    image = _throat_image(data, change, fill=False)
+    image = throat_image(data, change, fill=False)
     cols = data.grid_shape[1]
     p, q = data.throat_pores[0]
     (r1, c1), (r2, c2) = divmod(int(p), cols), divmod(int(q), cols)
