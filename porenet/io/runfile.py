@@ -189,10 +189,10 @@ def is_run_file(path: str | Path) -> bool:
         return False
 
 
-def _open(path: Path) -> Any:
-    """``path`` open for reading with h5py, or a RunFileError saying why it cannot be."""
-    import h5py
-
+def check_readable(path: str | Path) -> None:
+    """Raise a RunFileError if ``path`` is a directory, missing, not a regular file or not
+    readable: what can be said of a run file to read without opening it."""
+    path = Path(path)
     if path.is_dir():
         raise RunFileError(f"{path}: is a directory; give a run file (.h5)")
     if not path.is_file():
@@ -204,6 +204,13 @@ def _open(path: Path) -> Any:
             f"cannot read run file {path}: permission denied (change its permissions, "
             "e.g. chmod u+r)"
         )
+
+
+def _open(path: Path) -> Any:
+    """``path`` open for reading with h5py, or a RunFileError saying why it cannot be."""
+    import h5py
+
+    check_readable(path)
     try:
         return h5py.File(path, "r")
     except OSError as exc:

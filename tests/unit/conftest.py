@@ -40,15 +40,17 @@ def fill(directory: Path, leave: int = 2048) -> None:
             pass
 
 
-@pytest.fixture
-def tmpfs() -> Iterator[Callable[..., Path]]:
-    """``tmpfs(directory, size="64k", readonly=False, full=False)`` mounts a small tmpfs there
-    (``full``: filled to ~2 kB free; ``readonly``: remounted read-only after ``files`` are
-    copied in) and returns the directory; skips the test where it cannot (not root, or a
-    container without the permission). Unmounted at the end."""
-    mounted: list[Path] = []
+class Mounts:
+    """``mounts(directory, size="64k", readonly=False, full=False, files=())`` mounts a small
+    tmpfs on ``directory`` (``files`` copied in; ``full``: then filled to ~2 kB free;
+    ``readonly``: then remounted read-only) and returns it; skips where it cannot (not root,
+    or a container without the permission). :meth:`unmount_all` undoes every mount."""
 
-    def make(
+    def __init__(self) -> None:
+        self.mounted: list[Path] = []
+
+    def __call__(
+        self,
         directory: Path,
         size: str = "64k",
         *,
@@ -59,7 +61,7 @@ def tmpfs() -> Iterator[Callable[..., Path]]:
         why = mount_tmpfs(directory, size)
         if why is not None:
             pytest.skip(why)
-        mounted.append(directory)
+        self.mounted.append(directory)
         for path in files:
             shutil.copy(path, directory / path.name)
         if full:
@@ -68,6 +70,23 @@ def tmpfs() -> Iterator[Callable[..., Path]]:
             subprocess.run(["mount", "-o", "remount,ro", str(directory)], check=True)
         return directory
 
-    yield make
-    for directory in reversed(mounted):
-        subprocess.run(["umount", "-l", str(directory)], check=False)
+    def unmount_all(self) -> None:
+        for directory in reversed(self.mounted):
+            subprocess.run(["umount", "-l", str(directory)], check=False)
+        self.mounted.clear()
+
+
+@pytest.fixture
+def tmpfs() -> Iterator[Callable[..., Path]]:
+    """A :class:`Mounts` for one test, unmounted at its end."""
+    mounts = Mounts()
+    yield mounts
+    mounts.unmount_all()
+
+
+@pytest.fixture(scope="module")
+def module_tmpfs() -> Iterator[Mounts]:
+    """A :class:`Mounts` for a whole test module, unmounted at its end."""
+    mounts = Mounts()
+    yield mounts
+    mounts.unmount_all()

@@ -58,7 +58,7 @@ def full_disk(monkeypatch):
     def fake_open(path, mode="r", *args, **kwargs):
         if "w" in mode:
             return _FullDisk(Path(path), room=100)
-        return open(path, mode, *args, **kwargs)  # noqa: SIM115
+        return open(path, mode, *args, **kwargs)
 
     monkeypatch.setattr(atomic, "open", fake_open, raising=False)
 
