@@ -12,14 +12,13 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import os
 import sys
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from porenet._version import __version__
-from porenet.core.errors import ConfigError, PorenetError
+from porenet.core.errors import ConfigError, OutputError, RunFileError
 from porenet.plot_kinds import PLOT_KIND_DESCRIPTIONS
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -210,7 +209,13 @@ def cmd_plan(args: argparse.Namespace) -> int:
     source = _scene_source(args)
     registry = get_registry()
     scene = load_scene(source, args.overrides, registry=registry)
-    print(make_plan(scene, registry).describe())
+    plan = make_plan(scene, registry)
+    print(plan.describe())
+    from porenet.cli_checks import check_memory
+
+    too_large = check_memory(plan, ignore=True)
+    if too_large is not None:
+        print(f"memory: {too_large.split('; ')[0]}; porenet run refuses it without --ignore-memory")
     return 0
 
 
@@ -279,10 +284,19 @@ def cmd_classify(args: argparse.Namespace) -> int:
     entry = registry.get("classifier", kind)
     config = entry.config()
     if data.scene.get("classifier", {}).get("kind") == kind:
-        config = entry.config.model_validate(data.scene["classifier"])  # the run's settings
+        try:  # the run's settings
+            config = entry.config.model_validate(data.scene["classifier"])
+        except ValueError as exc:  # pydantic's ValidationError
+            raise RunFileError(
+                f"{args.runfile}: its [classifier] settings are not valid ({exc}); pass "
+                "--classifier KIND to use a classifier's defaults"
+            ) from None
     verdict = classify_run(data, entry.load()(config), kind)  # type: ignore[misc]
     if not args.no_store:
-        update_summary(args.runfile, verdict)
+        try:
+            update_summary(args.runfile, verdict)
+        except OutputError as exc:
+            raise OutputError(f"{exc} (or --no-store to print the label only)") from exc
     if args.json:
         print(json.dumps(verdict))
     else:
@@ -569,41 +583,15 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)  # bad usage: argparse prints it and exits with 2
     level = logging.WARNING - 10 * min(args.verbose, 2)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
-    command = f"porenet {args.command}"
     try:
         return int(args.func(args))
-    except PorenetError as exc:
-        if args.traceback:
+    except Exception as exc:
+        if args.traceback and not isinstance(exc, BrokenPipeError):
             raise
-        print(f"{command}: error: {exc}", file=sys.stderr)
-        return exc.exit_status
+        from porenet.cli_checks import report
+
+        return report(exc, args.command)
     except KeyboardInterrupt:
         written = "; no run file was written" if args.command in ("run", "resume") else ""
-        print(f"{command}: interrupted{written}", file=sys.stderr)
+        print(f"porenet {args.command}: interrupted{written}", file=sys.stderr)
         return 130
-    except BrokenPipeError:  # the reader went away (``porenet plan | head``): not an error
-        # point stdout at /dev/null so that Python's flush at exit does not fail again
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
-    except MemoryError:
-        if args.traceback:
-            raise
-        from porenet import cli_checks
-
-        print(f"{command}: error: {cli_checks.out_of_memory(args.command)}", file=sys.stderr)
-        return 1
-    except OSError as exc:  # an I/O failure no check foresaw: say which file and why
-        if args.traceback:
-            raise
-        where = f"{exc.filename}: " if exc.filename else ""
-        print(f"{command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
-        return 1
-    except Exception as exc:  # a bug: say so briefly, show the traceback on request
-        if args.traceback:
-            raise
-        print(
-            f"{command}: internal error: {type(exc).__name__}: {exc}\n"
-            "  (rerun with --traceback and report it)",
-            file=sys.stderr,
-        )
-        return 1

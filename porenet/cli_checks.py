@@ -287,6 +287,36 @@ def check_memory(plan: Any, *, ignore: bool = False) -> str | None:
     raise ConfigError(message + " or pass --ignore-memory to try anyway")
 
 
+def report(exc: Exception, command: str) -> int:
+    """Print the one-line message for ``exc``, raised by ``porenet COMMAND``, and return the
+    exit status (docs/reliability.md, "Exit status")."""
+    import sys
+
+    from porenet.core.errors import PorenetError
+
+    prefix = f"porenet {command}"
+    if isinstance(exc, PorenetError):
+        print(f"{prefix}: error: {exc}", file=sys.stderr)
+        return exc.exit_status
+    if isinstance(exc, BrokenPipeError):  # the reader went away (``porenet plan | head``)
+        # point stdout at /dev/null so that Python's flush at exit does not fail again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    if isinstance(exc, MemoryError):
+        print(f"{prefix}: error: {out_of_memory(command)}", file=sys.stderr)
+        return 1
+    if isinstance(exc, OSError):  # an I/O failure no check foresaw: which file, and why
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"{prefix}: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 1
+    print(  # a bug: say so briefly; --traceback shows it
+        f"{prefix}: internal error: {type(exc).__name__}: {exc}\n"
+        "  (rerun with --traceback and report it)",
+        file=sys.stderr,
+    )
+    return 1
+
+
 def out_of_memory(command: str) -> str:
     """What to say when memory ran out although the checks let ``command`` start."""
     if command == "run":

@@ -150,3 +150,10 @@ def test_help_states_the_exit_statuses(capsys):
     out = capsys.readouterr().out
     assert "exit status:" in out and "130  interrupted" in out and "--traceback" in out
     assert "2    bad usage or input" in out
+
+
+def test_plan_says_when_run_would_refuse_the_scene(write_scene, capsys, little_memory):
+    assert main(["plan", str(write_scene(SCENE))]) == 0
+    last = capsys.readouterr().out.splitlines()[-1]
+    assert last.startswith("memory: lattice.n = 10 needs ~24 kB of memory")
+    assert last.endswith("porenet run refuses it without --ignore-memory")
