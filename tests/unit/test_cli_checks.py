@@ -157,3 +157,28 @@ def test_plan_says_when_run_would_refuse_the_scene(write_scene, capsys, little_m
     last = capsys.readouterr().out.splitlines()[-1]
     assert last.startswith("memory: lattice.n = 10 needs ~24 kB of memory")
     assert last.endswith("porenet run refuses it without --ignore-memory")
+
+
+def test_permissions_are_named_even_where_root_bypasses_them(tmp_path, monkeypatch):
+    """The chmod cases of tests/unit/test_reliability.py are skipped as root; their messages
+    are checked here with the permission checks answering "no"."""
+    import os
+    from pathlib import Path
+
+    from porenet.config.loading import read_toml
+    from porenet.core.errors import RunFileError
+    from porenet.io.runfile import check_readable
+
+    (tmp_path / "run.h5").write_bytes(b"")
+    monkeypatch.setattr(os, "access", lambda path, mode: False)
+    with pytest.raises(ConfigError, match=r"-o .*out.h5: directory .* may not be written"):
+        cli_checks.check_output_file(tmp_path / "out.h5", "-o")
+    with pytest.raises(RunFileError, match=r"cannot read run file .*run.h5: permission denied"):
+        check_readable(tmp_path / "run.h5")
+
+    def denied(self, *args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(Path, "open", denied)
+    with pytest.raises(ConfigError, match=r"scene.toml: permission denied; make the scene"):
+        read_toml(tmp_path / "scene.toml")
