@@ -60,7 +60,7 @@ def check_output_file(path: Path, flag: str) -> None:
     its directory exists and may be written, and it is not a directory itself."""
     parent = path.resolve().parent
     if not parent.is_dir():
-        raise ConfigError(f"{flag} {path}: directory {parent} does not exist; create it first")
+        raise ConfigError(f"{flag} {path}: directory does not exist ({parent}); create it first")
     if path.is_dir():
         raise ConfigError(f"{flag} {path}: is a directory; give a file name")
     if not os.access(parent, os.W_OK | os.X_OK):

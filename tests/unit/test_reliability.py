@@ -309,7 +309,8 @@ CASES: list[Case] = [
          memory_limit=3 * GB, after=_absent("big.h5")),
     # -------------------------------------------------------------------- output files
     Case("Output files", "-o in a directory that does not exist",
-         ("run", "scene.toml", "-o", "nodir/out.h5"), 2, "does not exist; create it first",
+         ("run", "scene.toml", "-o", "nodir/out.h5"), 2,
+         ("-o nodir/out.h5: directory does not exist (", "create it first"),
          after=_absent("nodir")),
     Case("Output files", "-o is a directory", ("run", "scene.toml", "-o", "dir"), 2,
          "-o dir: is a directory; give a file name", setup=_mkdir("dir")),
