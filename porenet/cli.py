@@ -590,7 +590,10 @@ def main(argv: list[str] | None = None) -> int:
             raise
         from porenet.cli_checks import report
 
-        return report(exc, args.command)
+        status, message = report(exc, args.command)
+        if message is not None:
+            print(message, file=sys.stderr)
+        return status
     except KeyboardInterrupt:
         written = "; no run file was written" if args.command in ("run", "resume") else ""
         print(f"porenet {args.command}: interrupted{written}", file=sys.stderr)

@@ -287,34 +287,29 @@ def check_memory(plan: Any, *, ignore: bool = False) -> str | None:
     raise ConfigError(message + " or pass --ignore-memory to try anyway")
 
 
-def report(exc: Exception, command: str) -> int:
-    """Print the one-line message for ``exc``, raised by ``porenet COMMAND``, and return the
-    exit status (docs/reliability.md, "Exit status")."""
-    import sys
-
+def report(exc: Exception, command: str) -> tuple[int, str | None]:
+    """The exit status for ``exc``, raised by ``porenet COMMAND``, and the one-line message
+    to print on stderr (None: nothing to say); docs/reliability.md, "Exit status"."""
     from porenet.core.errors import PorenetError
 
     prefix = f"porenet {command}"
     if isinstance(exc, PorenetError):
-        print(f"{prefix}: error: {exc}", file=sys.stderr)
-        return exc.exit_status
+        return exc.exit_status, f"{prefix}: error: {exc}"
     if isinstance(exc, BrokenPipeError):  # the reader went away (``porenet plan | head``)
         # point stdout at /dev/null so that Python's flush at exit does not fail again
+        import sys
+
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
+        return 0, None
     if isinstance(exc, MemoryError):
-        print(f"{prefix}: error: {out_of_memory(command)}", file=sys.stderr)
-        return 1
+        return 1, f"{prefix}: error: {out_of_memory(command)}"
     if isinstance(exc, OSError):  # an I/O failure no check foresaw: which file, and why
         where = f"{exc.filename}: " if exc.filename else ""
-        print(f"{prefix}: error: {where}{exc.strerror or exc}", file=sys.stderr)
-        return 1
-    print(  # a bug: say so briefly; --traceback shows it
+        return 1, f"{prefix}: error: {where}{exc.strerror or exc}"
+    return 1, (  # a bug: say so briefly; --traceback shows it
         f"{prefix}: internal error: {type(exc).__name__}: {exc}\n"
-        "  (rerun with --traceback and report it)",
-        file=sys.stderr,
+        "  (rerun with --traceback and report it)"
     )
-    return 1
 
 
 def out_of_memory(command: str) -> str:
