@@ -164,8 +164,8 @@ def test_ip_fields_are_not_viscous_fields():
 @settings(max_examples=60, deadline=None)
 @given(
     ca=st.floats(min_value=1e-6, max_value=1.0),
-    # the smallest non-zero magnitude a scene accepts (docs/reliability.md, "Numbers in a
-    # scene"): 5e-324 divided by zero in the run
+    # from the smallest non-zero magnitude a scene accepts: 5e-324 divided by zero in a run
+    # (docs/reliability.md, "Numbers in a scene")
     safety=st.floats(min_value=SMALLEST, max_value=1.0),
     reservoir=st.sampled_from(["pore", "drained"]),
     meniscus=st.sampled_from(["threshold", "latching"]),
