@@ -65,12 +65,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.plot:
         cli_checks.check_picture_output(Path(args.plot), "--plot")
     progress = not args.quiet
-    cli_checks.apply_threads(args.threads)
     registry = get_registry()
     scene = load_scene(source, args.overrides, registry=registry)
     note = cli_checks.check_memory(make_plan(scene, registry), ignore=args.ignore_memory)
     if note is not None:
         log.warning("%s", note)
+    cli_checks.apply_threads(args.threads)  # imports numba: once the scene is accepted
     checkpoints = _checkpoints(args, output)
     from porenet.simulation import Simulation  # numerics only once the scene is accepted
 
@@ -238,7 +238,7 @@ def cmd_plugins(args: argparse.Namespace) -> int:
 
 def cmd_plot(args: argparse.Namespace) -> int:
     from porenet import cli_checks
-    from porenet.io.runfile import check_readable
+    from porenet.io.runfile import check_run_file
 
     if args.pressure and args.kind not in (None, "pressure"):
         raise ConfigError(f"--pressure means --kind pressure; it cannot go with --kind {args.kind}")
@@ -247,7 +247,7 @@ def cmd_plot(args: argparse.Namespace) -> int:
     default = run.with_name(f"{run.stem}.png" if kind == "pattern" else f"{run.stem}-{kind}.png")
     out = Path(args.output) if args.output else default
     cli_checks.check_dpi(args.dpi)
-    check_readable(run)
+    check_run_file(run)  # its header only: before matplotlib is imported
     cli_checks.check_picture_output(out, "-o")
     from porenet.io.runfile import read_run
     from porenet.viz.figures import make_figure, missing

@@ -252,8 +252,8 @@ def read_run(path: str | Path) -> RunData:
         raise _damaged(path, exc) from None
 
 
-def _read(f: Any, path: Path) -> RunData:
-    """The RunData in ``f``, an open ``h5py.File``."""
+def _check_header(f: Any, path: Path) -> None:
+    """``f``, an open ``h5py.File``, is a porenet run file of a version this reader knows."""
     if not _is_porenet(f):
         raise RunFileError(f"cannot read run file {path}: an HDF5 file, but not a porenet run file")
     version = int(f.attrs.get("format_version", 0))
@@ -262,6 +262,27 @@ def _read(f: Any, path: Path) -> RunData:
             f"{path}: format version {version} is newer than this porenet reads "
             f"({FORMAT_VERSION}); upgrade porenet"
         )
+
+
+def check_run_file(path: str | Path) -> None:
+    """Raise the RunFileError :func:`read_run` would for a file that is not a run file
+    (missing, a directory, unreadable, not HDF5, foreign, too new), reading only its header:
+    cheap, for commands that check their input before they start work. A file damaged
+    further in is found by :func:`read_run`."""
+    path = Path(path)
+    f = _open(path)
+    try:
+        with f:
+            _check_header(f, path)
+    except (PorenetError, MemoryError):
+        raise
+    except Exception as exc:  # whatever a damaged file makes h5py raise
+        raise _damaged(path, exc) from None
+
+
+def _read(f: Any, path: Path) -> RunData:
+    """The RunData in ``f``, an open ``h5py.File``."""
+    _check_header(f, path)
     lat = f["lattice"]
     shape = tuple(int(x) for x in lat.attrs["grid_shape"]) if "grid_shape" in lat.attrs else None
 

@@ -115,7 +115,7 @@ def test_an_interrupted_command_says_so(tmp_path, capsys, monkeypatch):
     def interrupted(path):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(runfile, "read_run", interrupted)
+    monkeypatch.setattr(runfile, "check_run_file", interrupted)
     (tmp_path / "r.h5").write_bytes(b"")
     assert main(["plot", str(tmp_path / "r.h5")]) == 130
     assert capsys.readouterr().err == "porenet plot: interrupted\n"

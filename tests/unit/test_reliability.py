@@ -16,6 +16,7 @@ to fill, a read-only one) or that root defeats (``chmod 000``) are skipped with 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import shutil
 import signal
@@ -82,6 +83,9 @@ class Case:
         Address-space limit (bytes, ``ulimit -v``) of the process.
     interrupt : str, optional
         Send SIGINT once stderr shows this.
+    in_process : bool
+        Call ``porenet.cli.main`` with the same arguments in the case's directory instead of
+        starting ``python -m porenet`` (set from :data:`IN_PROCESS`).
     """
 
     section: str
@@ -94,6 +98,7 @@ class Case:
     needs: str = ""
     memory_limit: int | None = None
     interrupt: str | None = None
+    in_process: bool = False
 
 
 # ------------------------------------------------------------------------------ set-ups
@@ -398,6 +403,22 @@ CASES: list[Case] = [
          interrupt="porenet: run", after=_absent("slow.h5")),
 ]  # fmt: skip
 
+#: Cases checked in the test's own process, to keep the suite short: errors in the arguments
+#: and the scene found before any run file is read or written. The issue's cases, and every
+#: case that reads or writes files, runs or is interrupted, start ``python -m porenet``.
+IN_PROCESS = {
+    "Usage": {"an unknown command", "--dpi that is not a number", "a scene file and --example",
+              "an unknown example", "--threads 0", "--jobs 0"},
+    "Scene": {c.name for c in CASES if c.section == "Scene"}
+    - {"a scene file that does not exist", "disorder = nan in the file",
+       "an unreadable scene file (chmod 000)"},
+    "Apertures file": {c.name for c in CASES if c.section == "Apertures file"} - {"a text file"},
+    "Pictures": {"--dpi -3", "--dpi nan", "--dpi inf"},
+    "Run files given to read": {"an unknown classifier",
+                                "phase-diagram of a directory that does not exist"},
+}  # fmt: skip
+CASES = [dataclasses.replace(c, in_process=c.name in IN_PROCESS.get(c.section, ())) for c in CASES]
+
 
 # ------------------------------------------------------------------------------ running
 
@@ -414,8 +435,29 @@ def command(case: Case) -> list[str]:
     return ["sh", "-c", f'ulimit -v {case.memory_limit // 1024} && exec "$@"', "sh", *cmd]
 
 
+def run_in_process(case: Case, directory: Path) -> subprocess.CompletedProcess[str]:
+    """``porenet.cli.main(case.argv)`` in ``directory``, its output captured."""
+    import contextlib
+    import io
+
+    from porenet.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    cwd = Path.cwd()
+    os.chdir(directory)
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                status = main(list(case.argv))
+            except SystemExit as exc:  # argparse's usage errors
+                status = exc.code if isinstance(exc.code, int) else 2
+    finally:
+        os.chdir(cwd)
+    return subprocess.CompletedProcess(list(case.argv), status, out.getvalue(), err.getvalue())
+
+
 def run_case(case: Case, directory: Path) -> subprocess.CompletedProcess[str]:
-    """Run ``porenet`` as the case says, in ``directory``."""
+    """Run ``porenet`` as the case says, in ``directory``, in a process of its own."""
     cmd = command(case)
     if case.interrupt is None:
         return subprocess.run(
@@ -458,13 +500,16 @@ def markdown() -> str:
             lines += [
                 f"### {section}",
                 "",
-                "| input | command | exit | message contains |",
-                "|---|---|---|---|",
+                "| input | command | exit | message contains | run |",
+                "|---|---|---|---|---|",
             ]
         command = " ".join(["porenet", *case.argv])
         note = {"non-root": " (not as root)"}.get(case.needs, "")
         message = " ... ".join(f'"{_cell(m)}"' for m in _fragments(case))
-        lines.append(f"| {_cell(case.name)}{note} | `{_cell(command)}` | {case.exit} | {message} |")
+        how = "in-process" if case.in_process else "process"
+        lines.append(
+            f"| {_cell(case.name)}{note} | `{_cell(command)}` | {case.exit} | {message} | {how} |"
+        )
     lines += ["", END]
     return "\n".join(lines) + "\n"
 
@@ -526,9 +571,16 @@ def outcomes(tmp_path_factory, module_tmpfs) -> dict[str, Outcome]:
             outcome.skipped = str(exc)
     todo = [(case, found[case_id(case)]) for case in CASES if not found[case_id(case)].skipped]
     with ThreadPoolExecutor(WORKERS) as pool:
-        procs = pool.map(lambda item: run_case(item[0], item[1].directory), todo)
-        for (_, outcome), proc in zip(todo, procs, strict=True):
-            outcome.proc = proc
+        started = [
+            (outcome, pool.submit(run_case, case, outcome.directory))
+            for case, outcome in todo
+            if not case.in_process
+        ]
+        for case, outcome in todo:  # meanwhile, here (the processes were given absolute cwd)
+            if case.in_process:
+                outcome.proc = run_in_process(case, outcome.directory)
+        for outcome, future in started:
+            outcome.proc = future.result()
     return found
 
 
