@@ -166,3 +166,25 @@ def test_a_read_only_file_system(tmp_path, tiny_run, tmpfs):
     ro = tmpfs(tmp_path / "ro", readonly=True)
     with pytest.raises(OutputError, match=r"read-only file system \(EROFS\)"):
         write_run(ro / "run.h5", tiny_run.data)
+
+
+def test_a_checkpoint_on_a_full_disk_keeps_the_previous_one(tmp_path, monkeypatch):
+    """write_checkpoint goes through atomic_output: an OutputError (exit 1, not the exit 2
+    of a bad checkpoint given to read), the previous checkpoint untouched."""
+    from porenet.io.checkpoint import read_header, write_checkpoint
+
+    header = dict(porenet_version="0", code_fingerprint="x", plugin_sources={},
+                  scene_digest="y", scene_name="s", output=None, n_drained=1, step=1,
+                  model_time=0.0, wall_time_s=0.0, written="now")  # fmt: skip
+    path = write_checkpoint(tmp_path / "run.h5.checkpoint", {"state": 1}, header)
+    before = path.read_bytes()
+    monkeypatch.setattr(atomic.tempfile, "mkstemp", _no_space)
+    with pytest.raises(OutputError, match=r"cannot write checkpoint .*: no space left") as info:
+        write_checkpoint(path, {"state": 2}, header | {"n_drained": 2})
+    assert info.value.exit_status == 1
+    assert path.read_bytes() == before and read_header(path).n_drained == 1
+    assert _leftovers(tmp_path) == []
+
+
+def _no_space(*args, **kwargs):
+    raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
