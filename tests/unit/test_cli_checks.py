@@ -87,7 +87,7 @@ def test_running_out_of_memory_is_one_line_not_an_internal_error(
 ):
     from porenet.simulation import Simulation
 
-    def exhausted(self):
+    def exhausted(self, *args):
         raise MemoryError
 
     monkeypatch.setattr(Simulation, "run", exhausted)
@@ -101,7 +101,7 @@ def test_running_out_of_memory_is_one_line_not_an_internal_error(
 def test_an_unforeseen_os_error_names_the_file(write_scene, tmp_path, capsys, monkeypatch):
     from porenet.simulation import Simulation
 
-    def broken(self):
+    def broken(self, *args):
         raise OSError(errno.EIO, "Input/output error", "/data/disk")
 
     monkeypatch.setattr(Simulation, "run", broken)
