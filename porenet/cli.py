@@ -1,8 +1,10 @@
 """The ``porenet`` command.
 
-Exit status: 0 success, 1 run-time failure (numerical trouble, unreadable run file), 2 invalid
-input (scene, option or file). Errors are one readable paragraph, never a traceback; pass
-``--traceback`` to see one for a bug report.
+Exit status (docs/reliability.md, "Exit status"): 0 done; 1 the command failed although its
+input was acceptable (numerical trouble, a full disk, out of memory); 2 bad usage or input
+(the message names the scene field, the file or the flag); 130 interrupted. Errors are one
+readable paragraph, never a traceback; pass ``--traceback`` to see one for a bug report.
+Checks made before any work starts are in :mod:`porenet.cli_checks`.
 """
 
 from __future__ import annotations
@@ -10,14 +12,13 @@ from __future__ import annotations
 import argparse
 import json
 import logging
-import os
 import sys
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from porenet._version import __version__
-from porenet.core.errors import ConfigError, PorenetError
+from porenet.core.errors import ConfigError, OutputError, RunFileError
 from porenet.plot_kinds import PLOT_KIND_DESCRIPTIONS
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -53,17 +54,27 @@ def _add_scene_args(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from porenet.simulation import Simulation
+    from porenet import cli_checks
+    from porenet.config.loading import load_scene
+    from porenet.core.plan import make_plan
+    from porenet.hooks import get_registry
 
     source = _scene_source(args)
     output = Path(args.output) if args.output else Path(f"{source.stem}.h5")
-    _check_output(output, args.overwrite)
-    if args.plot and not Path(args.plot).resolve().parent.is_dir():
-        raise ConfigError(f"--plot {args.plot}: directory does not exist")
+    cli_checks.check_run_output(output, args.overwrite)
+    if args.plot:
+        cli_checks.check_picture_output(Path(args.plot), "--plot")
     progress = not args.quiet
-    _configure_threads(args.threads)
+    registry = get_registry()
+    scene = load_scene(source, args.overrides, registry=registry)
+    note = cli_checks.check_memory(make_plan(scene, registry), ignore=args.ignore_memory)
+    if note is not None:
+        log.warning("%s", note)
+    cli_checks.apply_threads(args.threads)  # imports numba: once the scene is accepted
     checkpoints = _checkpoints(args, output)
-    sim = Simulation.from_scene(source, args.overrides, output=output, progress=progress)
+    from porenet.simulation import Simulation  # numerics only once the scene is accepted
+
+    sim = Simulation.from_scene(scene, output=output, progress=progress, registry=registry)
     _report(args, source.name, sim.run(checkpoints))
     return 0
 
@@ -95,15 +106,16 @@ def _checkpoints(args: argparse.Namespace, output: Path) -> CheckpointSchedule |
 
 
 def cmd_resume(args: argparse.Namespace) -> int:
+    from porenet import cli_checks
     from porenet.io.checkpoint import CheckpointSchedule, checkpoint_path
     from porenet.simulation import Simulation
 
     path = Path(args.checkpoint)
-    _configure_threads(args.threads)
+    cli_checks.apply_threads(args.threads)
     sim = Simulation.resume(path, output=args.output, progress=not args.quiet)
     output = sim.plan.output
     if output is not None:
-        _check_output(Path(output), args.overwrite)
+        cli_checks.check_run_output(Path(output), args.overwrite)
     # the resumed run keeps a checkpoint too (every 10 minutes unless told otherwise), beside
     # its run file; it is removed when the run ends
     target = checkpoint_path(output) if output is not None else path
@@ -156,42 +168,6 @@ def _report(args: argparse.Namespace, name: str, result: Any) -> None:
             print(f"figure: {args.plot}")
 
 
-def _check_output(output: Path, overwrite: bool) -> None:
-    """Before anything runs: the run file's directory exists (exit 2, like ``--plot``), and an
-    existing file is replaced only if it is a porenet run file, or with ``--overwrite``
-    (docs/run-file.md, "Overwriting"). A run file is written to a temporary name and renamed
-    at the end, so a failed run never touches the old one."""
-    parent = output.resolve().parent
-    if not parent.is_dir():
-        raise ConfigError(f"-o {output}: directory {parent} does not exist")
-    if output.is_dir():
-        raise ConfigError(f"-o {output}: is a directory; give a file name")
-    from porenet.io.runfile import is_run_file
-
-    if output.exists() and not overwrite and not is_run_file(output):
-        raise ConfigError(
-            f"-o {output}: exists and is not a porenet run file; not replaced (choose another "
-            "name, or --overwrite to replace it)"
-        )
-
-
-def _configure_threads(value: str | None) -> None:
-    """``--threads auto`` (the default) or ``--threads N`` (docs/performance.md, "Threads on a
-    busy machine")."""
-    from porenet.threads import configure_threads
-
-    if value is None or value == "auto":
-        configure_threads("auto")
-        return
-    try:
-        count = int(value)
-    except ValueError:
-        raise ConfigError(f"--threads {value}: give a number of threads or 'auto'") from None
-    if count < 1:
-        raise ConfigError(f"--threads {value}: must be at least 1")
-    configure_threads(count)
-
-
 def cmd_compile(args: argparse.Namespace) -> int:
     from porenet.warmup import compile_all
 
@@ -233,7 +209,13 @@ def cmd_plan(args: argparse.Namespace) -> int:
     source = _scene_source(args)
     registry = get_registry()
     scene = load_scene(source, args.overrides, registry=registry)
-    print(make_plan(scene, registry).describe())
+    plan = make_plan(scene, registry)
+    print(plan.describe())
+    from porenet.cli_checks import check_memory
+
+    too_large = check_memory(plan, ignore=True)
+    if too_large is not None:
+        print(f"memory: {too_large.split('; ')[0]}; porenet run refuses it without --ignore-memory")
     return 0
 
 
@@ -255,9 +237,8 @@ def cmd_plugins(args: argparse.Namespace) -> int:
 
 
 def cmd_plot(args: argparse.Namespace) -> int:
-    from porenet.io.runfile import read_run
-    from porenet.viz.figures import make_figure, missing
-    from porenet.viz.pattern import save_figure
+    from porenet import cli_checks
+    from porenet.io.runfile import check_run_file
 
     if args.pressure and args.kind not in (None, "pressure"):
         raise ConfigError(f"--pressure means --kind pressure; it cannot go with --kind {args.kind}")
@@ -265,13 +246,13 @@ def cmd_plot(args: argparse.Namespace) -> int:
     run = Path(args.runfile)
     default = run.with_name(f"{run.stem}.png" if kind == "pattern" else f"{run.stem}-{kind}.png")
     out = Path(args.output) if args.output else default
-    if not out.resolve().parent.is_dir():
-        raise ConfigError(f"-o {out}: directory does not exist")
-    from matplotlib.backend_bases import FigureCanvasBase
+    cli_checks.check_dpi(args.dpi)
+    check_run_file(run)  # its header only: before matplotlib is imported
+    cli_checks.check_picture_output(out, "-o")
+    from porenet.io.runfile import read_run
+    from porenet.viz.figures import make_figure, missing
+    from porenet.viz.pattern import save_figure
 
-    formats = FigureCanvasBase.get_supported_filetypes()
-    if out.suffix.lstrip(".").lower() not in formats:
-        raise ConfigError(f"-o {out}: unknown picture format; use one of {', '.join(formats)}")
     data = read_run(run)
     lack = missing(data, kind)
     if lack is not None:
@@ -280,7 +261,9 @@ def cmd_plot(args: argparse.Namespace) -> int:
         fig = make_figure(data, kind)
     except ValueError as exc:
         raise ConfigError(f"--kind {kind}: {run}: {exc}") from exc
-    save_figure(fig, out, **({"dpi": args.dpi} if args.dpi else {}))
+    dpi = cli_checks.dpi_of(args.dpi)
+    cli_checks.check_picture_size(fig, dpi)
+    save_figure(fig, out, dpi=dpi)
     print(f"figure: {out}")
     return 0
 
@@ -301,10 +284,19 @@ def cmd_classify(args: argparse.Namespace) -> int:
     entry = registry.get("classifier", kind)
     config = entry.config()
     if data.scene.get("classifier", {}).get("kind") == kind:
-        config = entry.config.model_validate(data.scene["classifier"])  # the run's settings
+        try:  # the run's settings
+            config = entry.config.model_validate(data.scene["classifier"])
+        except ValueError as exc:  # pydantic's ValidationError
+            raise RunFileError(
+                f"{args.runfile}: its [classifier] settings are not valid ({exc}); pass "
+                "--classifier KIND to use a classifier's defaults"
+            ) from None
     verdict = classify_run(data, entry.load()(config), kind)  # type: ignore[misc]
     if not args.no_store:
-        update_summary(args.runfile, verdict)
+        try:
+            update_summary(args.runfile, verdict)
+        except OutputError as exc:
+            raise OutputError(f"{exc} (or --no-store to print the label only)") from exc
     if args.json:
         print(json.dumps(verdict))
     else:
@@ -313,24 +305,31 @@ def cmd_classify(args: argparse.Namespace) -> int:
 
 
 def cmd_phase_diagram(args: argparse.Namespace) -> int:
+    from porenet import cli_checks
+
+    cli_checks.check_dpi(args.dpi)
+    directory = Path(args.dir)
+    if not directory.is_dir():
+        state = "is not a directory" if directory.exists() else "does not exist"
+        raise ConfigError(f"{directory}: {state}; give the output directory of `porenet sweep`")
+    if args.table:
+        cli_checks.check_output_file(Path(args.table), "--table")
+    out = Path(args.output)
+    cli_checks.check_picture_output(out, "-o")
+    from porenet.io.atomic import atomic_write_bytes
     from porenet.viz.pattern import save_figure
     from porenet.viz.phase import phase_points, plot_phase_diagram, points_table, read_summary
 
-    out = Path(args.output)
-    if not out.resolve().parent.is_dir():
-        raise ConfigError(f"-o {out}: directory does not exist")
-    from matplotlib.backend_bases import FigureCanvasBase
-
-    formats = FigureCanvasBase.get_supported_filetypes()
-    if out.suffix.lstrip(".").lower() not in formats:
-        raise ConfigError(f"-o {out}: unknown picture format; use one of {', '.join(formats)}")
-    table = read_summary(args.dir)
+    table = read_summary(directory)
     fig = plot_phase_diagram(table, axes=args.axes)
-    save_figure(fig, out, **({"dpi": args.dpi} if args.dpi else {}))
+    dpi = cli_checks.dpi_of(args.dpi)
+    cli_checks.check_picture_size(fig, dpi)
+    save_figure(fig, out, dpi=dpi)
     print(f"figure: {out}")
     if args.table:
         _, points = phase_points(table, args.axes)
-        Path(args.table).write_text(points_table(points), encoding="utf-8")
+        text = points_table(points).encode("utf-8")
+        atomic_write_bytes(args.table, text, what="table")
         print(f"table: {args.table}")
     return 0
 
@@ -400,8 +399,13 @@ def _add_checkpoint_arg(p: argparse.ArgumentParser, default: str | None = None) 
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from porenet.cli_checks import EXIT_STATUS_HELP
+
     parser = argparse.ArgumentParser(
-        prog="porenet", description="Pore-scale drainage in deformable disordered media."
+        prog="porenet",
+        description="Pore-scale drainage in deformable disordered media.",
+        epilog=EXIT_STATUS_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"porenet {__version__}")
     parser.add_argument("-v", "--verbose", action="count", default=0, help="more logging")
@@ -416,6 +420,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true",
                    help="replace the -o file even if it is not a porenet run file")  # fmt: skip
     p.add_argument("--plot", metavar="PNG", help="also save the pattern as a picture")
+    p.add_argument(
+        "--ignore-memory",
+        action="store_true",
+        help="run even if the plan's memory estimate exceeds the memory available "
+        "(otherwise refused with exit status 2 before anything is allocated)",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     p.add_argument(
         "--threads",
@@ -493,7 +503,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="picture to write, format from the suffix: png, pdf, svg, ... "
         "(default: RUNFILE.png for the pattern, RUNFILE-KIND.png otherwise)",
     )
-    p.add_argument("--dpi", type=float, help="resolution of raster pictures (default 300)")
+    p.add_argument(
+        "--dpi", type=float, help="resolution in dots per inch, a positive number (default 300)"
+    )
     p.add_argument("--pressure", action="store_true", help="same as --kind pressure")
     p.set_defaults(func=cmd_plot)
 
@@ -524,7 +536,9 @@ def build_parser() -> argparse.ArgumentParser:
         "auto: nf-castar when the sweep has a fracturing number (default)",
     )
     p.add_argument("--table", metavar="MD", help="also write the points as a markdown table")
-    p.add_argument("--dpi", type=float, help="resolution of raster pictures (default 300)")
+    p.add_argument(
+        "--dpi", type=float, help="resolution in dots per inch, a positive number (default 300)"
+    )
     p.set_defaults(func=cmd_phase_diagram)
 
     p = sub.add_parser(
@@ -564,30 +578,23 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the ``porenet`` command and return its exit status (module docstring)."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(argv)  # bad usage: argparse prints it and exits with 2
     level = logging.WARNING - 10 * min(args.verbose, 2)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
     try:
         return int(args.func(args))
-    except PorenetError as exc:
-        if args.traceback:
+    except Exception as exc:
+        if args.traceback and not isinstance(exc, BrokenPipeError):
             raise
-        print(f"porenet {args.command}: error: {exc}", file=sys.stderr)
-        return exc.exit_status
+        from porenet.cli_checks import report
+
+        status, message = report(exc, args.command)
+        if message is not None:
+            print(message, file=sys.stderr)
+        return status
     except KeyboardInterrupt:
-        print("porenet: interrupted; no run file was written", file=sys.stderr)
+        written = "; no run file was written" if args.command in ("run", "resume") else ""
+        print(f"porenet {args.command}: interrupted{written}", file=sys.stderr)
         return 130
-    except BrokenPipeError:  # the reader went away (``porenet plan | head``): not an error
-        # point stdout at /dev/null so that Python's flush at exit does not fail again
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
-    except Exception as exc:  # a bug: say so briefly, show the traceback on request
-        if args.traceback:
-            raise
-        print(
-            f"porenet {args.command}: internal error: {type(exc).__name__}: {exc}\n"
-            "  (rerun with --traceback and report it)",
-            file=sys.stderr,
-        )
-        return 1

@@ -113,7 +113,7 @@ def _theory_instead(data: RunData, why: str) -> tuple[Classification | None, str
 
 
 def classify_run(data: RunData, classifier: Classifier, kind: str) -> dict[str, Any]:
-    """The summary attributes of :data:`SUMMARY_KEYS` for one run.
+    """The summary attributes of :data:`SUMMARY_KEYS` for one run, and ``physics_warnings``.
 
     ``fractal_dimension`` and its error are ``nan`` when the pattern cannot be measured, and
     ``fractal_dimension_note`` then says why (empty otherwise). A fracturing label (FR, FR/VF,
@@ -123,7 +123,9 @@ def classify_run(data: RunData, classifier: Classifier, kind: str) -> dict[str, 
     theory predictor with half its confidence, and ``classifier_note`` says so (it is empty
     otherwise); if the scene determines no theory prediction either, ``regime`` and
     ``regime_confidence`` are ``None`` (not written to the run file). The run file of a long
-    run is never lost to its analysis.
+    run is never lost to its analysis. ``physics_warnings`` is the run's suspect-result
+    sentences (:func:`porenet.analysis.suspect.suspect_physics`), plus one when the label and
+    the theory's prediction share no regime (:func:`~porenet.analysis.suspect.regime_disagreement`).
 
     Raises
     ------
@@ -150,6 +152,7 @@ def classify_run(data: RunData, classifier: Classifier, kind: str) -> dict[str, 
             verdict, rigid_note = _without_fracturing(data, verdict, kind)
             note = f"{note}; {rigid_note}" if note else rigid_note
     details = {} if verdict is None else verdict.details
+    warnings = _physics_warnings(data, None if verdict is None else verdict.regime, kind)
     if "fractal_dimension" in details and math.isfinite(float(details["fractal_dimension"])):
         dimension = float(details["fractal_dimension"])
         error = float(details.get("fractal_dimension_error", math.nan))
@@ -165,7 +168,25 @@ def classify_run(data: RunData, classifier: Classifier, kind: str) -> dict[str, 
         "regime_confidence": None if verdict is None else float(verdict.confidence),
         "classifier": kind,
         "classifier_note": note,
+        "physics_warnings": warnings,
     }
+
+
+def _physics_warnings(data: RunData, regime: str | None, kind: str) -> str:
+    """The run's suspect-result sentences (recomputed from its summary), with the
+    disagreement of ``regime`` and the theory's prediction added when they share no regime
+    (docs/stability.md, "Suspect results"); that sentence is logged."""
+    from porenet.analysis.suspect import regime_disagreement, suspect_physics
+
+    found = suspect_physics(dict(data.summary), len(data.throat_pores))
+    if regime is not None:
+        theory, _ = _theory(data)
+        if theory is not None:
+            sentence = regime_disagreement(regime, theory.regime, kind, theory.details)
+            if sentence is not None:
+                log.warning("suspect result: %s", sentence)
+                found.append(sentence)
+    return "; ".join(found)
 
 
 def describe(summary: dict[str, Any]) -> str:

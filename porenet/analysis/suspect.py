@@ -1,9 +1,12 @@
 """Results that look physically wrong, said plainly (docs/stability.md, "Suspect results").
 
 :func:`suspect_physics` reads a finished run's summary and returns one sentence per problem;
-the Simulation logs each as a warning (printed by ``porenet run`` unless ``-q``) and stores
-them, joined by ``"; "``, as ``/summary`` attribute ``physics_warnings`` (empty when none).
-Pure arithmetic on the summary: nothing is recomputed.
+the Simulation logs each as a warning (printed by ``porenet run``, also with ``-q``) and
+stores them, joined by ``"; "``, as ``/summary`` attribute ``physics_warnings`` (empty when
+none). :func:`regime_disagreement` adds one when the pattern's label and the theory's
+prediction for the scene (what ``porenet plan`` prints) have no regime in common;
+:func:`porenet.analysis.classify.classify_run` asks it, at the end of a run and in ``porenet
+classify``. Pure arithmetic on the summary: nothing is recomputed.
 """
 
 from __future__ import annotations
@@ -50,6 +53,50 @@ def suspect_physics(summary: dict[str, Any], n_throats: int) -> list[str]:
                 "measured one"
             )
     return found
+
+
+def regime_parts(label: str) -> set[str]:
+    """The pure regimes a label names: ``"FR/VF"`` -> ``{"FR", "VF"}``."""
+    return set(label.split("/"))
+
+
+def regime_disagreement(
+    regime: str | None,
+    predicted: str | None,
+    classifier: str,
+    basis: dict[str, float | None] | None = None,
+) -> str | None:
+    """A sentence when the pattern's label and the theory's prediction share no regime, else
+    None.
+
+    Labels agree when they name a regime in common: CF/VF agrees with CF and with VF, FR/VF
+    with FR and with VF; CF against VF, CF against FR or FR/VF, VF against FR/CF disagree.
+
+    Parameters
+    ----------
+    regime : str or None
+        The classifier's label (None: not classified).
+    predicted : str or None
+        The regime the theory predicts for the scene (None: the scene determines none).
+    classifier : str
+        The kind that gave the label, named in the sentence.
+    basis : dict, optional
+        ``ca_star`` and ``fracturing_number`` of the prediction, quoted when known.
+    """
+    if regime is None or predicted is None or regime_parts(regime) & regime_parts(predicted):
+        return None
+    numbers = []
+    for key, name in (("ca_star", "Ca*"), ("fracturing_number", "N_f")):
+        value = (basis or {}).get(key)
+        if _positive(value):
+            numbers.append(f"{name} = {float(value):.3g}")  # type: ignore[arg-type]
+    quoted = f" ({', '.join(numbers)})" if numbers else ""
+    return (
+        f"the pattern is labelled {regime} by {classifier}, but the theory predicts "
+        f"{predicted} for this scene{quoted}, as porenet plan says: the run may not be at the "
+        "conditions asked for (see any other warning) or the label may be wrong, so look at the "
+        "pattern (porenet plot) before using either"
+    )
 
 
 def _positive(value: Any) -> bool:

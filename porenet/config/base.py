@@ -1,18 +1,98 @@
-"""Base class of every model config (docs/architecture.md, rule 4)."""
+"""Base classes of every scene section and model config (docs/architecture.md, rule 4).
+
+Numbers are checked the same way in every section (docs/reliability.md, "Numbers in a
+scene"): a float must be finite (``nan`` and ``inf`` are refused, naming the field), and 0 or
+between :data:`SMALLEST` and :data:`LARGEST` in magnitude; an integer must fit in 64 bits. In a
+field that accepts ``None`` but defaults to something else, ``inf`` is read as ``None`` (TOML
+has no null), e.g. ``pressure_step = inf`` of the viscous model.
+"""
 
 from __future__ import annotations
 
-from typing import Any, ClassVar, get_args, get_origin
+import functools
+import math
+import types
+from typing import Any, ClassVar, Union, get_args, get_origin
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, field_validator, model_validator
+from pydantic_core import PydanticUndefined
+
+#: Largest magnitude of a float in a scene: far above any SI value of the problem (moduli
+#: ~1e10 Pa, capillary numbers up to ~1e6), low enough that products of a few inputs stay
+#: finite in double precision.
+LARGEST = 1e30
+#: Smallest non-zero magnitude of a float in a scene (below it, products underflow to 0).
+SMALLEST = 1e-30
+#: Integers must fit in a signed 64-bit integer (the kernels' and HDF5's integers).
+INT_MAX = 2**63 - 1
 
 
-class ModelConfig(BaseModel):
+def _check_number(value: Any) -> None:
+    if isinstance(value, bool):
+        return
+    if isinstance(value, int):
+        if abs(value) > INT_MAX:
+            raise ValueError(f"must be at most {INT_MAX} in magnitude (a 64-bit integer)")
+    elif isinstance(value, float):
+        if math.isfinite(value) and value != 0 and not SMALLEST <= abs(value) <= LARGEST:
+            raise ValueError(
+                f"must be 0 or between {SMALLEST:g} and {LARGEST:g} in magnitude (SI units; "
+                "beyond that products of the inputs overflow or vanish)"
+            )
+    elif isinstance(value, list | tuple):
+        for item in value:
+            _check_number(item)
+
+
+@functools.cache
+def _none_when_infinite(cls: type[BaseModel]) -> frozenset[str]:
+    """Fields of ``cls`` that accept None but default to something else: there ``inf``
+    stands for None."""
+    names = set()
+    for name, info in cls.model_fields.items():
+        annotation = info.annotation
+        optional = get_origin(annotation) in (Union, types.UnionType) and type(None) in get_args(
+            annotation
+        )
+        if optional and info.default is not None and info.default is not PydanticUndefined:
+            names.add(name)
+    return frozenset(names)
+
+
+class CheckedModel(BaseModel):
+    """A frozen pydantic model that forbids unknown fields and checks every number (module
+    docstring)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _infinite_means_none(cls, data: Any) -> Any:
+        if isinstance(data, dict):
+            unlimited = _none_when_infinite(cls)
+            replace = {
+                k: None
+                for k, v in data.items()
+                if k in unlimited and isinstance(v, float) and v == math.inf
+            }
+            if replace:
+                data = {**data, **replace}
+        return data
+
+    @field_validator("*", mode="after")
+    @classmethod
+    def _numbers_in_range(cls, value: Any) -> Any:
+        _check_number(value)
+        return value
+
+
+class ModelConfig(CheckedModel):
     """Config of one model, selected in a scene by its ``kind``.
 
     Subclasses declare ``kind: Literal["their-kind"]`` and their parameters in SI units, with the
     unit in each field's description. Configs are frozen and forbid unknown fields, so a typo is
-    an error, never a silently ignored parameter.
+    an error, never a silently ignored parameter; their numbers are checked as the module
+    docstring says.
 
     Class attributes
     ----------------
@@ -20,8 +100,6 @@ class ModelConfig(BaseModel):
         True for kinds that the Plan satisfies by building no object at all (e.g. the rigid
         solid: no mechanics is ever simulated).
     """
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
     kind: str
     builds_nothing: ClassVar[bool] = False

@@ -36,8 +36,14 @@ def read_toml(path: str | Path) -> dict[str, Any]:
         raise ConfigError(f"{path}: no such file") from None
     except IsADirectoryError:
         raise ConfigError(f"{path}: is a directory, not a scene file") from None
+    except PermissionError:
+        raise ConfigError(
+            f"{path}: permission denied; make the scene file readable (chmod u+r)"
+        ) from None
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read the scene file: {exc.strerror or exc}") from None
     except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+        raise ConfigError(f"{path}: not valid TOML: {exc}; fix the scene file") from None
     except UnicodeDecodeError as exc:
         raise ConfigError(f"{path}: not a text file: {exc}") from None
 
@@ -180,6 +186,8 @@ def format_validation_error(
             continue
         if msg.startswith("Value error, "):
             msg = msg[len("Value error, ") :]
+        if err["type"] == "finite_number":
+            msg = "must be a finite number (nan and inf are not allowed here)"
         shown = f" = {value!r}" if value is not None and not isinstance(value, dict) else ""
         lines.append(f"{source}: {dotted}{shown}: {msg}")
     return ConfigError("invalid scene\n  " + "\n  ".join(lines))

@@ -8,15 +8,20 @@ from typing import Any, Literal, get_args, get_origin
 from pydantic import BaseModel
 from pydantic_core import PydanticUndefined
 
+from porenet.config.base import LARGEST, SMALLEST
 from porenet.config.scene import InjectionConfig, SceneBase, StopConfig
 from porenet.core.registry import Registry
 
-HEADER = """# Configuration reference
+HEADER = f"""# Configuration reference
 
 Generated from the registered config classes by
 `python examples/scripts/make_config_reference.py` (a test checks it is current). Units are SI.
 Each model section picks its class by `kind`; omitting `kind` selects the default shown. Unknown
 fields are errors. Kinds provided by plugins appear here only when the plugin is installed.
+Every number must be finite (`nan` and `inf` are refused, naming the field); a float is 0 or
+between {SMALLEST:g} and {LARGEST:g} in magnitude, an integer fits in 64 bits. In a field that
+takes `None` but defaults to a number, `inf` stands for `None` (TOML has no null)
+(docs/reliability.md, "Numbers in a scene").
 """
 
 

@@ -10,8 +10,9 @@ from __future__ import annotations
 import functools
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
+from pydantic import Field, create_model, model_validator
 
+from porenet.config.base import CheckedModel
 from porenet.core.registry import Registry
 
 #: Kind used when a section omits ``kind``.
@@ -26,7 +27,7 @@ DEFAULT_KINDS: dict[str, str] = {
 DEFAULT_SECTIONS: tuple[str, ...] = ("solid", "classifier")
 
 
-class InjectionConfig(BaseModel):
+class InjectionConfig(CheckedModel):
     """Where the invading fluid enters.
 
     ``centre``: the single centre pore (i, j) = (n//2, n//2), with the outlet along the whole
@@ -34,16 +35,14 @@ class InjectionConfig(BaseModel):
     outlet along the right column and closed top and bottom (linear geometry).
     """
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
     at: Literal["centre", "left-edge"] = Field(
         "centre", description="Injection site: 'centre' (paper) or 'left-edge' (linear)."
     )
 
 
-class StopConfig(BaseModel):
+class StopConfig(CheckedModel):
     """When a run ends (whichever comes first)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
     at: Literal["breakthrough", "complete"] = Field(
         "breakthrough",
         description="'breakthrough': when the first pore connected to the outlet drains; "
@@ -54,10 +53,8 @@ class StopConfig(BaseModel):
     )
 
 
-class SceneBase(BaseModel):
+class SceneBase(CheckedModel):
     """Top-level fields of a scene. All physical inputs are SI."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
     seed: int = Field(0, ge=0, description="Seed of the run's numpy Generator (the only RNG).")
     name: str = Field("", description="Free-text label copied into outputs.")

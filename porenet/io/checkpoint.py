@@ -20,8 +20,9 @@ the code that wrote it) and the SHA-256 of the payload, so a damaged or truncate
 checkpoint written by other code are refused before anything is unpickled. Like any pickle,
 a checkpoint can run code when it is loaded: resume only checkpoints you wrote yourself.
 
-Checkpoints are written atomically (a temporary file in the same directory, flushed to disk,
-then renamed), so a run killed while writing one leaves the previous checkpoint intact.
+Checkpoints are written atomically (:func:`porenet.io.atomic.atomic_output`: a temporary file
+in the same directory, flushed to disk, then renamed), so a run killed while writing one
+leaves the previous checkpoint intact, and a full disk is an ``OutputError`` naming the file.
 """
 
 from __future__ import annotations
@@ -29,7 +30,6 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
-import os
 import pickle
 import struct
 import time
@@ -38,7 +38,7 @@ from pathlib import Path
 from typing import Any
 
 from porenet._version import __version__
-from porenet.core.errors import ConfigError, PorenetError, RunFileError
+from porenet.core.errors import ConfigError, PorenetError
 
 MAGIC = b"PORENET-CHECKPOINT\n"
 #: Version of the layout above and of the header's fields.
@@ -176,9 +176,10 @@ def write_checkpoint(path: str | Path, simulation: Any, header: dict[str, Any]) 
 
     Raises
     ------
-    RunFileError
+    OutputError
         The file could not be written (disk full, no permission, ...): the message names the
-        path; the previous checkpoint, if any, is left as it was.
+        path and the reason (exit status 1); the previous checkpoint, if any, is left as it
+        was (:func:`porenet.io.atomic.atomic_output`).
     """
     path = Path(path)
     try:
@@ -196,20 +197,13 @@ def write_checkpoint(path: str | Path, simulation: Any, header: dict[str, Any]) 
         payload_sha256=hashlib.sha256(payload).hexdigest(),
     )
     head = json.dumps(dataclasses.asdict(CheckpointHeader(**fields))).encode()
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.partial")
-    try:
-        with open(temporary, "wb") as out:
-            out.write(MAGIC)
-            out.write(struct.pack("<Q", len(head)))
-            out.write(head)
-            out.write(payload)
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(temporary, path)
-    except OSError as exc:
-        temporary.unlink(missing_ok=True)
-        reason = exc.strerror or str(exc)
-        raise RunFileError(f"cannot write checkpoint {path}: {reason}") from None
+    from porenet.io.atomic import atomic_output
+
+    with atomic_output(path, what="checkpoint") as temporary, open(temporary, "wb") as out:
+        out.write(MAGIC)
+        out.write(struct.pack("<Q", len(head)))
+        out.write(head)
+        out.write(payload)
     return path
 
 

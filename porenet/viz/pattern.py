@@ -143,14 +143,31 @@ def plot_pattern(
 def save_figure(fig: Figure, path: Any, **kwargs: Any) -> None:
     """Save a figure made without pyplot (Agg canvas; porenet's dpi and font defaults).
 
-    The format follows the file's suffix (png, pdf, svg, ...); ``kwargs`` go to
-    ``Figure.savefig``.
+    The format follows the file's suffix (png, pdf, svg, ...) unless ``format`` is given;
+    ``kwargs`` go to ``Figure.savefig``. A path is written atomically: the picture is drawn
+    in memory and written by :func:`porenet.io.atomic.atomic_write_bytes`, so a failure (a
+    full disk) leaves no partial picture and raises an
+    :class:`~porenet.core.errors.OutputError` naming the path. A file object is written
+    directly.
     """
+    import io
+    import os
+
     import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from porenet.viz.style import rc
 
     FigureCanvasAgg(fig)
+    if not isinstance(path, str | os.PathLike):
+        with matplotlib.rc_context(rc()):
+            fig.savefig(path, **kwargs)
+        return
+    from porenet.io.atomic import atomic_write_bytes
+
+    suffix = os.path.splitext(os.fspath(path))[1].lstrip(".").lower()
+    kwargs.setdefault("format", suffix or None)
+    buffer = io.BytesIO()
     with matplotlib.rc_context(rc()):
-        fig.savefig(path, **kwargs)
+        fig.savefig(buffer, **kwargs)
+    atomic_write_bytes(path, buffer.getbuffer(), what="picture")

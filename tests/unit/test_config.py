@@ -167,3 +167,115 @@ def test_an_empty_override_restores_the_default():
     scene = load_scene({"lattice": {"n": 10, "disorder": 0.3}} | out)
     assert scene.fluid.capillary_number is None and scene.fluid.control == "pressure"
     assert apply_overrides({"a": 1}, ["b.c="]) == {"a": 1, "b": {}}  # nothing to remove
+
+
+def _float_fields() -> list[tuple[str, str, str]]:
+    """(section, kind, field) of every float field of the built-in kinds, and the scene's."""
+    import typing
+
+    from porenet.config.scene import StopConfig
+    from porenet.hooks import get_registry
+
+    def floats(model) -> list[str]:
+        names = []
+        for name, info in model.model_fields.items():
+            args = typing.get_args(info.annotation) or (info.annotation,)
+            flat = [a for arg in args for a in (typing.get_args(arg) or (arg,))]
+            if float in flat:
+                names.append(name)
+        return names
+
+    found = [("stop", "-", name) for name in floats(StopConfig)]
+    for entry in get_registry():
+        section = {"observer": "observers"}.get(entry.family, entry.family)
+        if entry.package == "porenet" and entry.config is not None:
+            found += [(section, entry.kind, name) for name in floats(entry.config)]
+    return found
+
+
+#: Every float field with nan, inf and -inf; not pressure_step = inf, its "no limit" (None).
+NON_FINITE = [
+    (*where, value)
+    for where in _float_fields()
+    for value in (float("nan"), float("inf"), float("-inf"))
+    if not (where[2] == "pressure_step" and value == float("inf"))
+]
+
+
+@pytest.mark.parametrize(("section", "kind", "field", "value"), NON_FINITE, ids=str)
+def test_a_non_finite_number_in_any_float_field_is_named(section, kind, field, value):
+    """nan or +-inf in any float field: "<field> = nan: must be a finite number", never a
+    bound's message ("less than 1"); +inf only where it stands for None (pressure_step)."""
+    scene: dict = {"lattice": {"n": 8, "disorder": 0.3}, "fluid": {}}
+    table = {field: [value] if field.startswith("snapshot_") else value}
+    if section == "observers":
+        scene["observers"] = [{"kind": kind, **table}]
+        dotted = f"observers[0].{field}"
+    elif section == "stop":
+        scene["stop"] = table
+        dotted = f"stop.{field}"
+    else:
+        scene[section] = {**scene.get(section, {}), "kind": kind, **table}
+        dotted = f"{section}.{field}" + ("[0]" if field.startswith("snapshot_") else "")
+    msg = error_of(scene)
+    assert f"{dotted} = {value!r}: must be a finite number" in msg
+
+
+def test_pressure_step_inf_means_no_limit():
+    scene = {"lattice": {"n": 8, "disorder": 0.3}, "fluid": {"kind": "viscous"}}
+    loaded = load_scene(scene, ["fluid.capillary_number=1e-2", "fluid.pressure_step=inf"])
+    assert loaded.fluid.pressure_step is None
+
+
+@pytest.mark.parametrize(
+    ("override", "expected"),
+    [
+        ("lattice.pore_size=1e300", "lattice.pore_size = 1e+300: must be 0 or between 1e-30"),
+        ("lattice.pore_size=1e-300", "lattice.pore_size = 1e-300: must be 0 or between"),
+        ("fluid.interfacial_tension=1e40", "fluid.interfacial_tension = 1e+40: must be 0 or"),
+        ("seed=99999999999999999999", "seed = 99999999999999999999: must be at most"),
+        ("lattice.n=1e400", "lattice.n = inf: must be a finite number"),
+    ],
+)
+def test_numbers_out_of_range_are_named(override, expected):
+    assert expected in error_of({"lattice": {"n": 8, "disorder": 0.3}, "fluid": {}}, override)
+
+
+@pytest.mark.parametrize(
+    ("make", "expected"),
+    [
+        (lambda p: p.write_text("1e-7 " * 60), "is not a NumPy file (it looks like a text file)"),
+        (lambda p: p.write_bytes(b"\x80\x04\x95" + b"\0" * 20), "looks like a Python pickle"),
+        (lambda p: p.write_bytes(b""), "is not a NumPy file (it is empty)"),
+        (
+            lambda p: np.save(p, np.array([1e-7] * 60, dtype=object), allow_pickle=True),
+            "holds Python objects, not numbers",
+        ),
+        (lambda p: np.save(p, np.ones(60, dtype=np.int64)), "holds int64 values, not floats"),
+        (lambda p: np.save(p, np.ones((60, 2))), "has shape (60, 2), expected (60,)"),
+        (lambda p: np.save(p, np.r_[np.ones(59), np.inf]), "not positive and finite"),
+        (lambda p: p.write_bytes(b"\x93NUMPY\x01\x00v"), "is damaged"),
+    ],
+    ids=["text", "pickle", "empty", "objects", "integers", "shape", "inf", "truncated"],
+)
+def test_an_apertures_file_that_is_not_an_array_of_apertures(tmp_path, write_scene, make, expected):
+    """Named as lattice.apertures_file with the file and what is expected; numpy's advice to
+    allow pickles never reaches the user."""
+    make(tmp_path / "ap.npy")
+    msg = error_of(write_scene('[lattice]\nn = 6\napertures_file = "ap.npy"\n[fluid]\n'))
+    assert "lattice.apertures_file = 'ap.npy'" in msg and expected in msg
+    assert "allow_pickle" not in msg
+    if "shape" not in expected and "not positive" not in expected:
+        assert "expected an .npz file with an array named 'apertures'" in msg
+
+
+def test_an_npy_file_of_apertures_is_read(tmp_path, write_scene):
+    np.save(tmp_path / "ap.npy", np.full(60, 1e-7))
+    scene = load_scene(write_scene('[lattice]\nn = 6\napertures_file = "ap.npy"\n[fluid]\n'))
+    assert scene.lattice.apertures_file == (tmp_path / "ap.npy").resolve()
+
+
+def test_an_apertures_directory_is_named(tmp_path, write_scene):
+    (tmp_path / "ap").mkdir()
+    msg = error_of(write_scene('[lattice]\nn = 6\napertures_file = "ap"\n[fluid]\n'))
+    assert "is a directory; give the .npz or .npy file of apertures" in msg
