@@ -14,17 +14,17 @@ import contextlib
 import errno
 import os
 import re
-import tempfile
 from pathlib import Path
 
-from porenet.core.errors import PorenetError
+from porenet.core.errors import OutputError, PorenetError
+from porenet.io import atomic
 
 #: errno values that mean "this file system cannot take the sweep's files now": they stop a
 #: sweep instead of being recorded as a failed run (a full disk fails every later run too).
 STORAGE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EROFS})
 
-#: Suffix of the temporary files (run files use it too: porenet.io.runfile.write_run).
-PARTIAL_SUFFIX = ".partial"
+#: Suffix of the temporary files (every atomic write of porenet uses it).
+PARTIAL_SUFFIX = atomic.PARTIAL_SUFFIX
 
 
 class SweepIOError(PorenetError):
@@ -77,35 +77,20 @@ def io_error(path: str | Path, exc: OSError, doing: str = "write") -> SweepIOErr
 
 
 def atomic_write_text(path: Path, text: str) -> None:
-    """Replace ``path`` by a file holding ``text`` (UTF-8), atomically.
-
-    The text goes to a temporary file in the same directory, which is flushed and synced
-    (``os.fsync``) and then renamed over ``path`` (``os.replace``): ``path`` is the old file or
-    the new one, never a part of either. On failure the temporary file is removed.
+    """Replace ``path`` by a file holding ``text`` (UTF-8), atomically
+    (:func:`porenet.io.atomic.atomic_write_bytes`: a temporary file in the same directory,
+    synced, then renamed over ``path``): ``path`` is the old file or the new one, never a part
+    of either. On failure the temporary file is removed.
 
     Raises
     ------
     SweepIOError
         If anything fails (``No space left on device``, ...); ``path`` is left as it was.
     """
-    tmp: str | None = None
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=PARTIAL_SUFFIX, dir=path.parent)
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the usual permissions
-        os.replace(tmp, path)
-        tmp = None
-    except OSError as exc:
-        raise io_error(path, exc) from exc
-    finally:
-        if tmp is not None:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
+        atomic.atomic_write_bytes(path, text.encode("utf-8"), what="sweep file")
+    except OutputError as exc:
+        raise SweepIOError(path, exc.reason, exc.errno) from exc
 
 
 def remove(path: Path) -> None:

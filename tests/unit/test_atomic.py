@@ -122,11 +122,11 @@ def test_a_run_file_on_a_full_disk_is_one_error_and_no_file(tmp_path, tiny_run, 
 
 
 def test_a_picture_on_a_full_disk(tmp_path, tiny_run, full_disk):
-    from porenet.viz.pattern import save_figure
+    from porenet.viz.pattern import plot_pattern, save_figure
 
     target = tmp_path / "p.png"
     with pytest.raises(OutputError, match=f"cannot write picture {target}: no space left"):
-        save_figure(tiny_run.plot(), target)
+        save_figure(plot_pattern(tiny_run.data), target)
     assert list(tmp_path.iterdir()) == []
 
 
