@@ -360,6 +360,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             scheduler=args.scheduler,
             dask_local=args.dask_local,
             retry_failed=args.retry_failed,
+            checkpoint_every=args.checkpoint_every,
             on_progress=None if args.quiet else show if tty else log_line,
         )
     except SweepInterrupted as exc:
@@ -388,13 +389,17 @@ def cmd_schema(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_checkpoint_arg(p: argparse.ArgumentParser, default: str | None = None) -> None:
+def _add_checkpoint_arg(
+    p: argparse.ArgumentParser,
+    default: str | None = None,
+    resumed_by: str = "`porenet resume` finishes a killed run from it",
+) -> None:
     p.add_argument(
         "--checkpoint-every",
         metavar="WHEN",
         help="write a checkpoint beside the run file (OUT.h5.checkpoint) every WHEN: a "
-        "duration (90s, 10m, 2h) or a number of drained pores (5000); `porenet resume` "
-        "finishes a killed run from it" + (f" (default {default})" if default else ""),
+        f"duration (90s, 10m, 2h) or a number of drained pores (5000); {resumed_by}"
+        + (f" (default {default})" if default else ""),
     )
 
 
@@ -566,6 +571,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--retry-failed", action="store_true", help="run again the runs that failed before"
+    )
+    _add_checkpoint_arg(
+        p, resumed_by="re-running the sweep goes on with each killed run from its checkpoint"
     )
     p.add_argument(
         "-q", "--quiet", action="store_true", help="no progress and no final line on success"

@@ -89,8 +89,9 @@ def atomic_write_text(path: Path, text: str) -> None:
     """
     try:
         atomic.atomic_write_bytes(path, text.encode("utf-8"), what="sweep file")
-    except OutputError as exc:
-        raise SweepIOError(path, exc.reason, exc.errno) from exc
+    except OutputError as exc:  # the system's wording, as io_error gives it
+        reason = exc.reason[:1].upper() + exc.reason[1:]
+        raise SweepIOError(path, reason, exc.errno) from exc
 
 
 def remove(path: Path) -> None:

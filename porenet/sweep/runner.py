@@ -6,13 +6,16 @@ Layout of ``DIR`` (docs/sweeps.md)::
     DIR/summary.csv             one row per finished run (rewritten atomically after each)
     DIR/runs/<run_id>.h5        run files (written atomically by porenet)
     DIR/runs/<run_id>.error.txt the message and traceback of a failed run
+    DIR/runs/<run_id>.h5.checkpoint  a run in progress (``--checkpoint-every``)
 
 Re-running the same sweep into the same ``DIR`` resumes: runs whose run file reads back with
 the intended scene are not run again, failed runs are not retried unless asked. A run file (or
 error record) whose scene differs from the sweep's is an error: a directory never mixes the
 runs of two different sweeps. One sweep at a time writes into ``DIR``: it holds ``DIR/.lock``
 (:mod:`porenet.sweep.lock`); its files are written atomically and an I/O error stops it with
-a message (:mod:`porenet.sweep.files`).
+a message (:mod:`porenet.sweep.files`). A run that left a checkpoint (``porenet sweep
+--checkpoint-every``) goes on from it instead of from the start, to the same result
+(docs/sweeps.md, "Checkpoints").
 """
 
 from __future__ import annotations
@@ -109,6 +112,9 @@ class RunTask:
     scene: dict[str, Any]
     output: str  # absolute path of the run file
     threads: int = 1  # threads of the parallel kernels (the cores a worker may use)
+    #: ``--checkpoint-every`` (``"10m"``, ``"5000"``), None for no checkpoints; a checkpoint
+    #: left beside the run file is resumed either way
+    checkpoint_every: str | None = None
 
 
 class _Capture(logging.Handler):
@@ -130,25 +136,29 @@ def one_line(exc: BaseException) -> str:
 def execute_run(task: RunTask) -> dict[str, Any]:
     """Run one scene and write its run file; never raises for a failing run.
 
-    Returns ``{"status": "done", <SUMMARY_FIELDS>, "task_time_s", "warnings"}`` or
-    ``{"status": "failed", "error", "traceback", "wall_time_s", "task_time_s", "warnings"}``.
+    Returns ``{"status": "done", <SUMMARY_FIELDS>, "task_time_s", "warnings", "resumed_at"}``
+    or ``{"status": "failed", "error", "traceback", "wall_time_s", "task_time_s",
+    "warnings", "resumed_at"}``; ``resumed_at`` is the number of drained pores of the
+    checkpoint the run went on from (:func:`start_or_resume`), None if it started afresh.
     The porenet log records of WARNING and above emitted during the run are returned in
     ``warnings`` instead of being printed by the worker. A failure caused by a full disk, a
     quota or a read-only file system (:func:`porenet.sweep.files.storage_error`) also has
     ``storage_errno`` and ``storage_error`` (the system's reason): the sweep stops on it
-    instead of recording the run as failed.
+    instead of recording the run as failed, and the run's checkpoint is kept; after any other
+    failure it is removed (a retry starts afresh).
     """
     t0 = time.perf_counter()
     logger = logging.getLogger("porenet")
     capture, propagate = _Capture(), logger.propagate
     logger.addHandler(capture)
     logger.propagate = False
+    resumed_at: int | None = None
     try:
-        from porenet.simulation import run
         from porenet.threads import configure_threads
 
         configure_threads("auto", most=task.threads)
-        result = run(task.scene, output=task.output)
+        simulation, schedule, resumed_at = start_or_resume(task)
+        result = simulation.run(schedule)
         out: dict[str, Any] = {k: plain(result.summary.get(k)) for k in SUMMARY_FIELDS}
         out["status"] = "done"
     except Exception as exc:
@@ -161,12 +171,60 @@ def execute_run(task: RunTask) -> dict[str, Any]:
         storage = storage_error(exc)  # a full disk is not the run's failure: it stops the sweep
         if storage is not None:
             out["storage_errno"], out["storage_error"] = storage
+        else:
+            with contextlib.suppress(OSError):
+                _checkpoint_of(task).unlink(missing_ok=True)
     finally:
         logger.removeHandler(capture)
         logger.propagate = propagate
     out["task_time_s"] = time.perf_counter() - t0
     out["warnings"] = capture.messages
+    out["resumed_at"] = resumed_at
     return out
+
+
+def _checkpoint_of(task: RunTask) -> Path:
+    from porenet.io.checkpoint import checkpoint_path
+
+    return checkpoint_path(task.output)
+
+
+def start_or_resume(task: RunTask) -> tuple[Any, Any, int | None]:
+    """The simulation of ``task``, its checkpoint schedule (or None), and where it resumed.
+
+    A checkpoint beside the run file (``<run file>.checkpoint``) of this very scene, written
+    by this porenet, is loaded and the run goes on from it: the result is the one an
+    uninterrupted run gives, to the bit (docs/run-file.md, "Checkpoints"); the third value is
+    its number of drained pores. A checkpoint that cannot be resumed (another scene, another
+    porenet version or code, damaged) is logged as a warning and the run starts afresh (None);
+    the next checkpoint replaces it. The schedule writes checkpoints every
+    ``task.checkpoint_every``; without one, a checkpoint resumed from is removed at the end.
+    """
+    from porenet.config.loading import load_scene
+    from porenet.hooks import get_registry
+    from porenet.io.checkpoint import CheckpointError, CheckpointSchedule, read_header, scene_digest
+    from porenet.simulation import Simulation
+
+    path = _checkpoint_of(task)
+    registry = get_registry()
+    scene = load_scene(task.scene, registry=registry)
+    if task.checkpoint_every is not None:
+        schedule = CheckpointSchedule.parse(task.checkpoint_every, path)
+    else:
+        schedule = CheckpointSchedule(path) if path.exists() else None
+    if path.exists():
+        try:
+            header = read_header(path)
+            if header.scene_digest != scene_digest(scene.model_dump(mode="json")):
+                raise CheckpointError(f"{path} holds a checkpoint of another scene")
+            simulation = Simulation.resume(path, output=task.output)
+        except CheckpointError as exc:
+            log.warning("%s; the run starts afresh", exc)
+        else:
+            log.info("%s: resumed at %d drained pores", task.run_id, header.n_drained)
+            return simulation, schedule, header.n_drained
+    simulation = Simulation.from_scene(scene, output=task.output, registry=registry)
+    return simulation, schedule, None
 
 
 # --------------------------------------------------------------------------- the sweep
@@ -185,6 +243,7 @@ class SweepReport:
     elapsed_s: float
     executor: str
     rows: list[dict[str, str]] = field(repr=False, default_factory=list)
+    resumed: int = 0  # of those run this session, how many went on from a checkpoint
 
     @property
     def summary_path(self) -> Path:
@@ -192,9 +251,10 @@ class SweepReport:
 
     def describe(self) -> str:
         """The final line the CLI prints."""
+        resumed = f", {self.resumed} of them from a checkpoint" if self.resumed else ""
         return (
             f"{self.total} runs: {self.done} done, {self.failed} failed"
-            f" ({self.ran} run now, {self.skipped} finished before); "
+            f" ({self.ran} run now{resumed}, {self.skipped} finished before); "
             f"{clock(self.elapsed_s)}; summary {self.summary_path}"
         )
 
@@ -218,11 +278,13 @@ def _scan(
     out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: SummaryTable, retry_failed: bool
 ) -> list[RunSpec]:
     """Record finished runs in ``table``; return the runs to do. Refuses foreign files."""
+    from porenet.io.checkpoint import SUFFIX as CHECKPOINT
     from porenet.io.runfile import read_run
 
     runs_dir = out_dir / RUNS_DIR
     known = {run.run_id for run in runs}
-    for path in sorted([*runs_dir.glob("*.h5"), *runs_dir.glob("*.error.txt")]):
+    patterns = ("*.h5", "*.error.txt", f"*{CHECKPOINT}")
+    for path in sorted(p for pattern in patterns for p in runs_dir.glob(pattern)):
         stem = path.name.split(".")[0]
         if stem not in known:
             raise ConfigError(
@@ -243,6 +305,8 @@ def _scan(
                 if data.scene != run.scene:
                     raise _edited(run_path, run, sweep, data.scene)
                 table.record(run, "done", data.summary)
+                # a run killed between writing its run file and removing its checkpoint
+                remove(run_path.with_name(run_path.name + CHECKPOINT))
                 continue
         if error_path.is_file():
             message, wall, scene = read_error(error_path)
@@ -291,6 +355,7 @@ def run_sweep(
     executor: Executor | None = None,
     retry_failed: bool = False,
     on_progress: Callable[[Progress], None] | None = None,
+    checkpoint_every: str | None = None,
 ) -> SweepReport:
     """Run (or resume) a sweep into ``out_dir``.
 
@@ -314,6 +379,10 @@ def run_sweep(
         Run again the runs that failed before.
     on_progress : callable, optional
         Called with a :class:`Progress` when the runs start and after each finished run.
+    checkpoint_every : str, optional
+        Each run writes a checkpoint beside its run file this often (``porenet run
+        --checkpoint-every``: ``"10m"``, ``"5000"`` drained pores). Whether or not it is
+        given, a run that left a checkpoint goes on from it (docs/sweeps.md, "Checkpoints").
 
     Raises
     ------
@@ -329,6 +398,10 @@ def run_sweep(
     """
     sweep = sweep_file if isinstance(sweep_file, Sweep) else load_sweep(sweep_file)
     runs = expand(sweep)
+    if checkpoint_every is not None:  # a bad period is refused before anything runs
+        from porenet.io.checkpoint import CheckpointSchedule
+
+        CheckpointSchedule.parse(checkpoint_every, "unused")
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ConfigError(f"-o {out}: exists and is not a directory")
@@ -338,21 +411,25 @@ def run_sweep(
         raise io_error(out, exc, "create") from exc
     with DirectoryLock(out), _sigterm_stops():
         return _run_locked(
-            sweep, runs, out, workers, scheduler, dask_local, executor, retry_failed, on_progress
-        )
+            sweep, runs, out, SweepOptions(workers, scheduler, dask_local, executor, retry_failed,
+                                           on_progress, checkpoint_every)
+        )  # fmt: skip
 
 
-def _run_locked(
-    sweep: Sweep,
-    runs: list[RunSpec],
-    out: Path,
-    workers: int | None,
-    scheduler: str | None,
-    dask_local: bool,
-    executor: Executor | None,
-    retry_failed: bool,
-    on_progress: Callable[[Progress], None] | None,
-) -> SweepReport:
+@dataclass(frozen=True)
+class SweepOptions:
+    """How :func:`run_sweep` runs the runs: its keyword arguments, documented there."""
+
+    workers: int | None = None
+    scheduler: str | None = None
+    dask_local: bool = False
+    executor: Executor | None = None
+    retry_failed: bool = False
+    on_progress: Callable[[Progress], None] | None = None
+    checkpoint_every: str | None = None
+
+
+def _run_locked(sweep: Sweep, runs: list[RunSpec], out: Path, options: SweepOptions) -> SweepReport:
     """:func:`run_sweep` once it holds the directory's lock."""
     swept = columns(sweep.spec)
     table = SummaryTable(out, runs, swept)
@@ -360,14 +437,14 @@ def _run_locked(
     ex: Executor | None = None
     own = False
     t0 = time.perf_counter()
-    finished_now = 0
+    finished_now = resumed = 0
 
     def progress(last: str | None) -> None:
-        if on_progress is not None:
+        if options.on_progress is not None:
             done, failed = table.counts()
             elapsed = time.perf_counter() - t0
             n_workers = ex.workers if ex else None
-            on_progress(
+            options.on_progress(
                 Progress(len(runs), done, failed, len(todo), finished_now, elapsed, n_workers, last)
             )
 
@@ -377,20 +454,20 @@ def _run_locked(
         except OSError as exc:
             raise io_error(out / RUNS_DIR, exc, "create") from exc
         _clean_partials(out)  # left by a sweep that was killed: we hold the lock
-        todo = _scan(out, runs, sweep, table, retry_failed)
+        todo = _scan(out, runs, sweep, table, options.retry_failed)
         # the executor first: an unreachable scheduler fails before anything is written
-        ex = executor
+        ex = options.executor
         if ex is None and todo:
-            ex = _make_executor(len(todo), workers, scheduler, dask_local)
-        own = executor is None and ex is not None
+            ex = _make_executor(len(todo), options.workers, options.scheduler, options.dask_local)
+        own = options.executor is None and ex is not None
         _write_resolved(out, sweep, runs, swept)
         table.write()
         log.info("sweep %r: %d runs, %d finished before, %d to run", sweep.spec.name,
                  len(runs), len(runs) - len(todo), len(todo))  # fmt: skip
         by_id = {run.run_id: run for run in todo}
-        threads = threads_per_run(ex, scheduler)
-        tasks = [RunTask(r.run_id, r.scene, str((out / r.run_file).resolve()), threads)
-                 for r in todo]  # fmt: skip
+        threads = threads_per_run(ex, options.scheduler)
+        tasks = [RunTask(r.run_id, r.scene, str((out / r.run_file).resolve()), threads,
+                         options.checkpoint_every) for r in todo]  # fmt: skip
         t0 = time.perf_counter()
         progress(None)
         if ex is not None and todo:
@@ -399,6 +476,7 @@ def _run_locked(
                 for task, outcome in outcomes:
                     _finish(out, by_id[task.run_id], outcome, table)
                     finished_now += 1
+                    resumed += isinstance(outcome, dict) and outcome.get("resumed_at") is not None
                     table.write()
                     progress(task.run_id)
     except KeyboardInterrupt as exc:
@@ -424,7 +502,7 @@ def _run_locked(
     done, failed = table.counts()
     return SweepReport(out, len(runs), done, failed, len(runs) - len(todo), finished_now,
                        time.perf_counter() - t0, ex.describe() if ex else "nothing to run",
-                       table.sorted_rows())  # fmt: skip
+                       table.sorted_rows(), resumed)  # fmt: skip
 
 
 def _clean_after_stop(out: Path, ex: Executor | None) -> None:
@@ -465,6 +543,9 @@ def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryTable) -> None:
         return
     for message in outcome.get("warnings", ()):
         log.info("%s: %s", run.run_id, message)
+    if outcome.get("resumed_at") is not None:
+        log.info("%s went on from its checkpoint at %d drained pores", run.run_id,
+                 outcome["resumed_at"])  # fmt: skip
     if outcome["status"] == "done":
         remove(error_path)
         table.record(run, "done", outcome)

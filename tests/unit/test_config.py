@@ -169,27 +169,34 @@ def test_an_empty_override_restores_the_default():
     assert apply_overrides({"a": 1}, ["b.c="]) == {"a": 1, "b": {}}  # nothing to remove
 
 
+#: (section, kind, field) of the float fields that take a list of floats.
+LIST_FIELDS: set[tuple[str, str, str]] = set()
+
+
 def _float_fields() -> list[tuple[str, str, str]]:
-    """(section, kind, field) of every float field of the built-in kinds, and the scene's."""
+    """(section, kind, field) of every float field of the built-in kinds, and the scene's;
+    those that take a list are also in :data:`LIST_FIELDS`."""
     import typing
 
     from porenet.config.scene import StopConfig
     from porenet.hooks import get_registry
 
-    def floats(model) -> list[str]:
+    def floats(section: str, kind: str, model) -> list[tuple[str, str, str]]:
         names = []
         for name, info in model.model_fields.items():
             args = typing.get_args(info.annotation) or (info.annotation,)
             flat = [a for arg in args for a in (typing.get_args(arg) or (arg,))]
             if float in flat:
-                names.append(name)
+                names.append((section, kind, name))
+                if list in {typing.get_origin(a) for a in (info.annotation, *args)}:
+                    LIST_FIELDS.add(names[-1])
         return names
 
-    found = [("stop", "-", name) for name in floats(StopConfig)]
+    found = floats("stop", "-", StopConfig)
     for entry in get_registry():
         section = {"observer": "observers"}.get(entry.family, entry.family)
         if entry.package == "porenet" and entry.config is not None:
-            found += [(section, entry.kind, name) for name in floats(entry.config)]
+            found += floats(section, entry.kind, entry.config)
     return found
 
 
@@ -207,7 +214,8 @@ def test_a_non_finite_number_in_any_float_field_is_named(section, kind, field, v
     """nan or +-inf in any float field: "<field> = nan: must be a finite number", never a
     bound's message ("less than 1"); +inf only where it stands for None (pressure_step)."""
     scene: dict = {"lattice": {"n": 8, "disorder": 0.3}, "fluid": {}}
-    table = {field: [value] if field.startswith("snapshot_") else value}
+    listed = (section, kind, field) in LIST_FIELDS
+    table = {field: [value] if listed else value}
     if section == "observers":
         scene["observers"] = [{"kind": kind, **table}]
         dotted = f"observers[0].{field}"
@@ -216,7 +224,8 @@ def test_a_non_finite_number_in_any_float_field_is_named(section, kind, field, v
         dotted = f"stop.{field}"
     else:
         scene[section] = {**scene.get(section, {}), "kind": kind, **table}
-        dotted = f"{section}.{field}" + ("[0]" if field.startswith("snapshot_") else "")
+        dotted = f"{section}.{field}"
+    dotted += "[0]" if listed else ""
     msg = error_of(scene)
     assert f"{dotted} = {value!r}: must be a finite number" in msg
 

@@ -298,3 +298,48 @@ def test_a_worker_whose_parent_died_before_it_started_ends_at_once(tmp_path):
         timeout=60, check=False,
     )  # fmt: skip
     assert (done.returncode, done.stdout) == (1, "")
+
+
+#: 2 runs of Fig. 1b's scene, small and explicit (~250 drained pores, < 1 s each).
+CHECKPOINTED_SWEEP = """
+name = "checkpointed"
+replicates = 2
+[base]
+lattice = { n = 50, disorder = 0.3, pore_size = 1e-7 }
+fluid = { kind = "viscous", capillary_number = 9e-4, integrator = "explicit" }
+classifier = { kind = "none" }
+"""
+
+
+def test_after_kill_9_the_runs_go_on_from_their_checkpoints(tmp_path, sweeps):
+    """docs/sweeps.md, "Checkpoints": the sweep is killed while its runs are mid-way, with a
+    checkpoint each; the same command again finishes them from there, to the bit."""
+    import numpy as np
+
+    from porenet.simulation import run
+    from porenet.sweep.spec import expand, load_sweep
+
+    out = tmp_path / "out"
+    sweep = Sweep(tmp_path, out)
+    sweep.sweep = tmp_path / "checkpointed.toml"
+    sweep.sweep.write_text(CHECKPOINTED_SWEEP)
+    sweep.args = [sys.executable, "-m", "porenet", "sweep", str(sweep.sweep), "-o", str(out),
+                  "--workers", "2", "--checkpoint-every", "60"]  # fmt: skip
+    sweeps.append(sweep)
+    proc = sweep.start()
+    _wait_for(lambda: list((out / "runs").glob("*.checkpoint")), STARTUP_S, "checkpoint", proc)
+    proc.send_signal(signal.SIGKILL)
+    assert proc.wait() == -signal.SIGKILL
+    time.sleep(0.5)  # the workers die with the sweep
+    checkpoints = sorted((out / "runs").glob("*.checkpoint"))
+    assert checkpoints and len(checkpoints) + len(_run_files(out)) <= 2
+
+    rerun = sweep.run()
+    assert rerun.returncode == 0, rerun.stderr
+    assert f"{len(checkpoints)} of them from a checkpoint" in rerun.stdout, rerun.stdout
+    assert list((out / "runs").glob("*.checkpoint")) == [] and _partials(out) == []
+    for spec in expand(load_sweep(sweep.sweep)):
+        reference = run(spec.scene, output=tmp_path / f"{spec.run_id}.h5").data
+        resumed = read_run(out / spec.run_file)
+        for name in ("order", "throat", "invasion_pressure", "invasion_time", "pressure"):
+            assert np.array_equal(getattr(reference, name), getattr(resumed, name)), name
