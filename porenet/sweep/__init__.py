@@ -14,14 +14,13 @@ from porenet.sweep.lock import SweepLocked
 from porenet.sweep.runner import (
     SUMMARY_FIELDS,
     Progress,
-    RunTask,
     SweepInterrupted,
     SweepReport,
-    execute_run,
     format_progress,
     run_sweep,
 )
 from porenet.sweep.spec import DERIVED, RunSpec, Sweep, SweepSpec, expand, load_sweep
+from porenet.sweep.worker import RunTask, execute_run
 
 __all__ = [
     "DERIVED",

@@ -16,8 +16,9 @@ from porenet.core.errors import ConfigError
 from porenet.io.checkpoint import CheckpointSchedule, checkpoint_path
 from porenet.io.runfile import read_run
 from porenet.simulation import Simulation
-from porenet.sweep.runner import RunTask, execute_run, run_sweep
+from porenet.sweep.runner import run_sweep
 from porenet.sweep.spec import expand, load_sweep
+from porenet.sweep.worker import RunTask, execute_run
 
 #: Fig. 1b's scene, small and explicit (~250 drained pores, < 1 s), two disorders.
 SWEEP = """
