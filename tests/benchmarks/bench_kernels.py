@@ -92,7 +92,7 @@ def current_stages(adjacency, entry, inlets, outlet, trapping: bool) -> dict[str
             o[:], v[:] = order, via  # (~0.1 ms at n = 400)
             adjacency = ip.Adjacency(indptr, width, pairs, 2)
             scratch = ip.TrapWork(state, stack, trapped)
-            return ip._drop_trapped(adjacency, o, v, k, outlet, scratch)
+            return ip.drop_trapped(adjacency, o, v, k, outlet, scratch)
 
         stages["drop trapped"] = drop
     throat = np.empty(k, dtype=np.int64)

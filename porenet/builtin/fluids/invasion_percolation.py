@@ -141,9 +141,9 @@ class InvasionPercolation(FluidModel):
         return self._cursor >= len(self._order)
 
     def finalize(self, state: State) -> None:
-        from porenet.kernels.invasion import ip
+        from porenet.kernels.invasion import trapping
 
-        state.trapped[:] = ip.enclosed_defender(
+        state.trapped[:] = trapping.enclosed_defender(
             self._indptr, self._neighbours, state.drained, self._outlet
         )
 

@@ -585,12 +585,13 @@ class ViscousDrainage(FluidModel):
         return reasons[self._status]
 
     def finalize(self, state: State) -> None:
-        from porenet.kernels.invasion import ip
+        from porenet.kernels.invasion import trapping
 
         net = self.network
         self.flow.pressure[state.drained] = state.invading_pressure
-        state.trapped[:] = ip.enclosed_defender(net.indptr, net.neighbour, state.drained,
-                                                net.outlet)  # fmt: skip
+        state.trapped[:] = trapping.enclosed_defender(
+            net.indptr, net.neighbour, state.drained, net.outlet
+        )
 
     # -- outputs ----------------------------------------------------------------------------
     def volumes(self) -> dict[str, float]:

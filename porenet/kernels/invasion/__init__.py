@@ -1,10 +1,10 @@
 """Invasion percolation: the precomputed sequence with and without trapping, the online variant
 for deformable media, and the bitmap priority queue they share.
 
-For plugin authors, the stable entry points are importable from here (they load with
-:mod:`porenet.kernels.invasion.ip`, on first use): :func:`entry_pressures`,
-:func:`invasion_sequence` and :func:`enclosed_defender` (docs/plugins.md, "Adding a fluid
-model").
+For plugin authors, the stable entry points are importable from here (they load on first use,
+from :mod:`porenet.kernels.invasion.ip` and :mod:`porenet.kernels.invasion.trapping`):
+:func:`entry_pressures`, :func:`invasion_sequence` and :func:`enclosed_defender`
+(docs/plugins.md, "Adding a fluid model").
 """
 
 from __future__ import annotations
@@ -13,12 +13,20 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
-    from porenet.kernels.invasion.ip import enclosed_defender, entry_pressures, invasion_sequence
+    from porenet.kernels.invasion.ip import entry_pressures, invasion_sequence
+    from porenet.kernels.invasion.trapping import enclosed_defender
 
 __all__ = ["enclosed_defender", "entry_pressures", "invasion_sequence"]
 
 
+_HOME = {
+    "enclosed_defender": "porenet.kernels.invasion.trapping",
+    "entry_pressures": "porenet.kernels.invasion.ip",
+    "invasion_sequence": "porenet.kernels.invasion.ip",
+}
+
+
 def __getattr__(name: str) -> Any:
-    if name in __all__:
-        return getattr(importlib.import_module("porenet.kernels.invasion.ip"), name)
+    if name in _HOME:
+        return getattr(importlib.import_module(_HOME[name]), name)
     raise AttributeError(f"module 'porenet.kernels.invasion' has no attribute {name!r}")

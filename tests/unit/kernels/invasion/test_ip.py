@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from porenet.builtin.lattices.square import canonical_throats
 from porenet.kernels.invasion import ip
+from porenet.kernels.invasion import trapping as trap
 from porenet.kernels.invasion.bitqueue import queue_insert, queue_min, queue_new, queue_remove
 from porenet.kernels.shared.graph import csr_adjacency
 from porenet.testing.reference import reference_invasion
@@ -85,7 +86,7 @@ def test_trapped_set_matches_reference():
     drained = np.zeros(n * n, dtype=bool)
     drained[order] = True
     indptr, nbrs, _ = csr_adjacency(tp, n * n)
-    enclosed = ip.enclosed_defender(indptr, nbrs, drained, outlet)
+    enclosed = trap.enclosed_defender(indptr, nbrs, drained, outlet)
     assert set(np.flatnonzero(enclosed).tolist()) == ref_trapped
     assert drained.sum() + len(ref_trapped) == n * n  # complete: every pore drained or trapped
 
@@ -260,7 +261,7 @@ def test_trapped_steps_and_invade_give_the_invasion_with_trapping():
     full, full_via = run_kernel(tp, entry, inlets, outlet, False, False)
     assert order.tolist() == full.tolist()
     assert np.where(via_rank >= 0, by_rank[via_rank], -1).tolist() == full_via.tolist()
-    trapped = ip.trapped_steps(indptr, nbrs, order, outlet, len(inlets))
+    trapped = trap.trapped_steps(indptr, nbrs, order, outlet, len(inlets))
     with_trapping, _ = run_kernel(tp, entry, inlets, outlet, True, False)
     assert order[~trapped].tolist() == with_trapping.tolist()
     assert trapped.any()

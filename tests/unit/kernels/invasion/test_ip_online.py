@@ -10,6 +10,7 @@ import pytest
 from porenet.builtin.lattices.square import canonical_throats
 from porenet.kernels.invasion import ip
 from porenet.kernels.invasion import online as io
+from porenet.kernels.invasion import trapping as trap
 from porenet.kernels.shared.graph import csr_adjacency, max_degree
 
 
@@ -103,7 +104,7 @@ def test_online_trapping_and_frontier_after_every_step(edge):
     steps = 0
     while True:
         drained = status == io.DRAINED
-        enclosed = ip.enclosed_defender(adj[0], adj[1], drained, outlet)
+        enclosed = trap.enclosed_defender(adj[0], adj[1], drained, outlet)
         assert np.array_equal(status == io.TRAPPED, enclosed)
         assert set(io.online_frontier(state).tolist()) == frontier_by_definition(tp, status)
         pore, throat, pressure = io.online_step(io.Graph(*adj), entry, outlet, True, state)
