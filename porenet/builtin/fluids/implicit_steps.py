@@ -68,14 +68,16 @@ Decisions (see also docs/stability.md and docs/accuracy.md):
   meniscus fluxes at the start of the step, starts from the start-of-step rate of change of
   ``D``), so that the event lies close to the end of the bracket and the secant locates it
   in one or two solves.
-* Stationary (``Status.STATIONARY``, pressure control only): over a stable step ``dt_min``, no
-pressure
-  changes by more than ``floor`` (at least 1e-15; the rate is ``(p' - p)/dt`` at the end of
-  the last step, exact for backward Euler) and no meniscus moves by more than ``floor`` (in
-  units of a; a meniscus sliding into a trapped cluster slows to a stop but stays SLIDE).
+* Stationary (``Status.STATIONARY``, pressure control only): over a stable step ``dt_min``,
+  no pressure changes by more than ``floor`` (at least 1e-15; the rate is ``(p' - p)/dt`` at
+  the end of the last step, exact for backward Euler) and no meniscus moves by more than
+  ``floor`` (in units of a; a meniscus sliding into a trapped cluster slows to a stop but
+  stays SLIDE).
 * Active-set iterations are capped at 60 (the last 40 switch one meniscus at a time, the most
-  violating one); a step whose states do not settle is retried at a quarter of the length,
-  and below ``1e-9 dt_min`` the run stops with ``Status.NOT_SETTLED``.
+  violating one; one step's problem and its iteration are
+  :mod:`porenet.builtin.fluids.implicit_solve`); a step whose states do not settle is
+  retried at a quarter of the length, and below ``1e-9 dt_min`` the run stops with
+  ``Status.NOT_SETTLED``.
 """
 
 from __future__ import annotations
@@ -85,20 +87,12 @@ from enum import IntEnum
 from typing import Any, NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
+from porenet.builtin.fluids.implicit_solve import OFF, ON, SLIDE, StepProblem
 from porenet.kernels.viscous.explicit import drain_pore
-from porenet.kernels.viscous.grid_cholesky import (
-    GridFronts,
-    grid_cholesky_factor,
-    grid_cholesky_solve,
-    grid_cholesky_symbolic,
-)
+from porenet.kernels.viscous.grid_cholesky import grid_cholesky_symbolic
 from porenet.kernels.viscous.pore_matrix import (
     error_and_storage,
-    fill_diagonal,
-    fill_matrix,
     pore_matrix_pattern,
     start_rates,
 )
@@ -115,9 +109,6 @@ from porenet.kernels.viscous.state import (
     Stops,
     Total,
 )
-
-#: Meniscus states (``mstate`` per throat; a latched meniscus is ON or OFF (= ZERO)).
-OFF, SLIDE, ON = 0, 1, 2
 
 
 class Slot(IntEnum):
@@ -137,236 +128,8 @@ class Slot(IntEnum):
 #: Set to a list to record one tuple per trial step (debugging and benchmarks).
 TRACE: list | None = None
 
-_MAX_ITER = 60
-_ONE_AT_A_TIME = 20
 _PREDICT_MARGIN = 1.05
 _GROWTH = 5.0
-
-
-class _GridCholesky:
-    """``solve(rhs)`` with the factor of :func:`grid_cholesky_factor` (the SuperLU interface)."""
-
-    def __init__(self, fronts: GridFronts) -> None:
-        self.fronts = fronts
-
-    def solve(self, rhs: np.ndarray) -> np.ndarray:
-        return grid_cholesky_solve(self.fronts, np.ascontiguousarray(rhs, dtype=np.float64))
-
-
-# -- one step's problem ---------------------------------------------------------------------------
-
-
-class _Step:
-    """The frontier, right-hand side and factorisations of one step (transient: built at the
-    start of a step and dropped at its end)."""
-
-    def __init__(self, k: dict[str, Any], tolerance_iter: float) -> None:
-        self.k = k
-        self.tol = tolerance_iter
-        self.lu: Any = None
-        self.lu_dt = -1.0
-        self.columns: dict[int, np.ndarray] = {}
-        self.solves = 0
-        self.factorizations = 0
-        self.iterations = 0
-
-    # the factorisation of K(dt) and the columns K^{-1} e_i of the meniscus pores
-    def factor(self, dt: float) -> None:
-        if dt == self.lu_dt:
-            return
-        k = self.k
-        pat = k["pattern"]
-        if "fronts" in pat:  # canonical grid: the multifrontal Cholesky
-            fronts = pat["fronts"]
-            fill_diagonal(dt, k["indptr"], k["thr"], k["vol"], k["g_eff"], k["g_out"],
-                          fronts.diagonal)  # fmt: skip
-            grid_cholesky_factor(fronts, k["g_eff"], k["thr"])
-            self.lu = _GridCholesky(fronts)
-        else:
-            fill_matrix(dt, k["indptr"], k["thr"], k["vol"], k["g_eff"], k["g_out"],
-                         pat["diag"], pat["off"], pat["data"])  # fmt: skip
-            n = pat["n"]
-            mat = sp.csc_matrix((pat["data"], pat["indices"], pat["indptr"]), shape=(n, n))
-            self.lu = splu(
-                mat,
-                permc_spec="MMD_AT_PLUS_A",
-                diag_pivot_thresh=0.0,
-                options={"SymmetricMode": True},
-            )
-        self.lu_dt = dt
-        self.columns = {}
-        self.factorizations += 1
-
-    def column(self, i: int) -> np.ndarray:
-        col = self.columns.get(i)
-        if col is None:
-            e = np.zeros(self.k["n"])
-            e[i] = 1.0
-            col = self.lu.solve(e)
-            self.solves += 1
-            self.columns[i] = col
-        return col
-
-    def solve(self, dt: float) -> dict[str, Any] | None:
-        """The consistent end-of-step states and values after a step of ``dt`` (None if the
-        active-set iteration does not settle)."""
-        k = self.k
-        self.factor(dt)
-        x0 = self.lu.solve(k["vol"] * k["p"] / dt)
-        self.solves += 1
-        fpore, g, pe = k["fpore"], k["G"], k["pe_f"]
-        free, latch = k["free"], k["latch_f"]
-        nf = len(fpore)
-        control = k["control"]
-        pinv = k["pinv"]
-        cap = k["capacity"]
-        state = k["state0"].copy()
-        _one_slide_per_pore(state, free, pe, fpore)
-        seen: set[bytes] = set()
-        x0f = x0[fpore]
-        for it in range(_MAX_ITER):
-            on = np.flatnonzero(state != OFF)
-            n_on = len(on)
-            wf = np.empty((nf, n_on))
-            for a, s in enumerate(on):
-                wf[:, a] = self.column(int(fpore[s]))[fpore]
-            rate_ctl = control == Control.RATE
-            size = n_on + (1 if rate_ctl else 0)
-            pinv_new = pinv + k["ramp_rate"] * dt if control == Control.RAMP else pinv
-            q = np.zeros(nf)
-            if size > 0:
-                mat = np.zeros((size, size))
-                rhs = np.empty(size)
-                mat[:n_on, :n_on] = wf[on, :]
-                sliding = state[on] == SLIDE
-                onon = ~sliding
-                idx = np.arange(n_on)
-                mat[idx[onon], idx[onon]] += 1.0 / g[on[onon]]
-                rhs[:n_on] = -x0f[on]
-                rhs[:n_on][sliding] -= pe[on[sliding]]
-                if rate_ctl:
-                    mat[:n_on, n_on] = -1.0
-                    mat[n_on, :n_on] = 1.0
-                    mat[n_on, n_on] = cap / dt
-                    rhs[n_on] = cap * pinv / dt + k["q_rate"]
-                else:
-                    rhs[:n_on] += pinv_new
-                sol = np.linalg.solve(mat, rhs)
-                q[on] = sol[:n_on]
-                if rate_ctl:
-                    pinv_new = sol[n_on]
-            pf = x0f + wf @ q[on] if n_on else x0f.copy()
-            delta = pinv_new - pf
-            new_state, _, arg = _switch(state, free, latch, delta, q, g, pe, fpore, self.tol)
-            if arg < 0:
-                self.iterations += it + 1
-                return {"dt": dt, "x0": x0, "state": state, "q": q, "pinv": pinv_new,
-                        "delta": delta, "on": on, "iterations": it + 1}  # fmt: skip
-            if it >= _ONE_AT_A_TIME:  # switch only the most violating meniscus
-                keep = state.copy()
-                keep[arg] = new_state[arg]
-                _one_slide_per_pore(keep, free, pe, fpore)
-                new_state = keep
-            key = new_state.tobytes()
-            if key in seen and it < _ONE_AT_A_TIME:
-                # a cycle: go on one meniscus at a time from the current states
-                keep = state.copy()
-                keep[arg] = new_state[arg]
-                _one_slide_per_pore(keep, free, pe, fpore)
-                new_state = keep
-            seen.add(key)
-            state = new_state
-        self.failed_at = int(k["fthr"][int(np.argmax(state != k["state0"]))])
-        return None
-
-    def pressures(self, sol: dict[str, Any]) -> np.ndarray:
-        """The full end-of-step pressure field of a solution."""
-        pnew = sol["x0"].copy()
-        fpore, q = self.k["fpore"], sol["q"]
-        for s in sol["on"]:
-            pnew += q[s] * self.column(int(fpore[s]))
-        return pnew
-
-    def events(self, sol: dict[str, Any]) -> tuple[float, float, float]:
-        """``h`` (see the module docstring) and its landing and start parts."""
-        k = self.k
-        dt = sol["dt"]
-        q = sol["q"]
-        moving = sol["state"] != OFF
-        h_land = math.inf
-        if moving.any():
-            remaining = k["ell_f"][moving] - q[moving] * dt / k["area_f"][moving]
-            h_land = float(np.min(remaining)) / k["ell0"]
-        h_start = math.inf
-        frozen = ~k["free"]
-        if frozen.any():
-            h_start = float(np.min((k["pe_f"][frozen] - sol["delta"][frozen]) / k["pe_f"][frozen]))
-        return min(h_land, h_start), h_land, h_start
-
-
-def _one_slide_per_pore(state: np.ndarray, free: np.ndarray, pe: np.ndarray, fpore: np.ndarray):
-    """At most one sliding meniscus per pore: the one with the largest entry pressure slides,
-    the others into the same pore are ON."""
-    sliding = np.flatnonzero(state == SLIDE)
-    if len(sliding) < 2:
-        return
-    pores = fpore[sliding]
-    if len(np.unique(pores)) == len(pores):
-        return
-    order = np.lexsort((-pe[sliding], pores))
-    last = -1
-    for s in sliding[order]:
-        if fpore[s] == last:
-            state[s] = ON
-        last = fpore[s]
-
-
-def _switch(
-    state: np.ndarray,
-    free: np.ndarray,
-    latch: np.ndarray,
-    delta: np.ndarray,
-    q: np.ndarray,
-    g: np.ndarray,
-    pe: np.ndarray,
-    fpore: np.ndarray,
-    tol: float,
-) -> tuple[np.ndarray, float, int]:
-    """The switched states of the free menisci whose conditions fail, the largest violation
-    and its meniscus (-1 if every condition holds)."""
-    new = state.copy()
-    viol = np.zeros(len(state))
-    thr = free & ~latch
-    # threshold menisci
-    on = thr & (state == ON)
-    bad = on & (delta < pe - tol)
-    viol[bad] = (pe - delta)[bad]
-    new[bad] = SLIDE
-    sl = thr & (state == SLIDE)
-    cap = g * pe
-    high = sl & (q > cap + tol * cap)
-    low = sl & (q < -tol * cap)
-    viol[high] = ((q - cap) / g)[high]
-    viol[low] = (-q / g)[low]
-    new[high] = ON
-    new[low] = OFF
-    off = thr & (state == OFF)
-    up = off & (delta > pe + tol)
-    viol[up] = (delta - pe)[up]
-    new[up] = SLIDE
-    # latched menisci: ON while D' > 0
-    lat = free & latch
-    stop = lat & (state == ON) & (delta < -tol)
-    go = lat & (state == OFF) & (delta > tol)
-    viol[stop] = -delta[stop]
-    viol[go] = delta[go]
-    new[stop] = OFF
-    new[go] = ON
-    if not viol.any():
-        return new, 0.0, -1
-    _one_slide_per_pore(new, free, pe, fpore)
-    arg = int(np.argmax(viol))
-    return new, float(viol[arg]), arg
 
 
 # -- the stepper ----------------------------------------------------------------------------------
@@ -533,7 +296,7 @@ def implicit_advance(
             "control": control, "pinv": pinv, "capacity": cap, "q_rate": q_rate,
             "ramp_rate": ramp_rate, "ell_f": ell[fthr], "area_f": area[fthr], "ell0": ell0,
         }  # fmt: skip
-        step = _Step(step_k, 1e-10)
+        step = StepProblem(step_k, 1e-10)
         sol = step.solve(dt_try)
         if sol is None:
             ctrl[Slot.DT] = 0.25 * dt_try
@@ -659,7 +422,7 @@ def implicit_advance(
         ctrl[Slot.RESTART] = 1.0
 
 
-def _count(ctrl: np.ndarray, step: _Step, rejected: bool = False) -> None:
+def _count(ctrl: np.ndarray, step: StepProblem, rejected: bool = False) -> None:
     ctrl[Slot.SOLVES] += step.solves
     ctrl[Slot.FACTORIZATIONS] += step.factorizations
     ctrl[Slot.ITERATIONS] += step.iterations
@@ -695,7 +458,7 @@ def _predict(
 
 
 def _locate(
-    step: _Step, sol_hi: dict[str, Any], h_hi: float, event_tolerance: float
+    step: StepProblem, sol_hi: dict[str, Any], h_hi: float, event_tolerance: float
 ) -> tuple[dict[str, Any] | None, float]:
     """Regula falsi (Illinois) on the step length for the first event; returns the solution at
     the located instant and its ``h`` (``<= 0``: at or just past the event; a small positive
