@@ -1,4 +1,11 @@
-"""Builds the models a Plan calls for and runs the loop (see porenet.core.interfaces)."""
+"""Builds the models a Plan calls for and runs the loop (see porenet.core.interfaces).
+
+Length (over the ~500 lines of docs/architecture.md's rule): one class, the run loop, with what
+is tied to the state of a run: starting and ending the phases, checkpoints (pickling and
+resuming the same object) and the run's record (RunData) assembled from the models' outputs.
+Each is a few methods on the same attributes; in separate modules they would read the
+Simulation's attributes from outside.
+"""
 
 from __future__ import annotations
 

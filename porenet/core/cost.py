@@ -45,6 +45,10 @@ pores):
   (:data:`LOCAL_STEPS_FACTOR`). Python start-up, imports and the first-run numba
   compilation (7-55 s, once per machine: docs/performance.md, "First run") are not
   included.
+
+Length (over the ~500 lines of docs/architecture.md's rule): one estimate (``estimate_cost``)
+and the per-unit terms it adds up, each with its measured constant and its provenance in
+docs/cost.md; kept together so that a constant and the term using it are read side by side.
 """
 
 from __future__ import annotations

@@ -26,6 +26,11 @@ docs/performance.md and docs/accuracy.md):
   :attr:`LocalSteps.min_box` pores (``local_steps = "auto"``), when no window within
   :attr:`LocalSteps.max_share` of the active box holds the coarse step's errors, or when a
   macro step is predicted to cost more than :attr:`LocalSteps.gain` times single-rate steps.
+
+Length (over the ~500 lines of docs/architecture.md's rule): one class, the decisions of local
+time stepping (window, macro-step length, far field, when to fall back to global steps), each
+documented above with its measurement; the kernels it drives are already apart (multirate.py,
+window.py).
 """
 
 from __future__ import annotations

@@ -1,5 +1,13 @@
 """The paper's dynamic drainage model (docs/model.md section 4) as a FluidModel, kind
-``viscous``."""
+``viscous``.
+
+Length (over the ~500 lines of docs/architecture.md's rule): one class, the viscous model's side
+of the FluidModel contract (setup, advance, apertures_changed, finalize, outputs). Its methods
+share one object's state (the network, the flow, the conductances, the integrator in use);
+splitting them across modules would have them read each other's attributes again, which the
+named interfaces with LocalSteps removed. The numerics are in porenet/kernels/viscous/, the
+implicit stepper in implicit_steps.py and the local steps in local_steps.py.
+"""
 
 from __future__ import annotations
 

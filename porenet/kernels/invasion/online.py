@@ -58,6 +58,11 @@ Typical use, with entry pressures that change after every step::
         ...  # deform the medium, then refresh entry[online_frontier(state)]
 
 :func:`online_advance` takes many steps in one call when the entries do not change in between.
+
+Length (over the ~500 lines of docs/architecture.md's rule): one algorithm: the step, the
+frontier it keeps and the trapping it updates after every step share the layout of OnlineState,
+and ``_trap_after`` (a third of the module) is called only by the step. Apart, the same layout
+would be described in two places.
 """
 
 from __future__ import annotations

@@ -66,6 +66,11 @@ springs between two fixed particles is an independent tridiagonal system (a *cha
 by the Thomas algorithm in O(N) with the contact iteration done per chain
 (:mod:`porenet.kernels.mechanics.chains`). Otherwise :func:`solve_sparse` assembles the 2-D
 stiffness matrix (scipy.sparse) and solves it with a sparse direct solver.
+
+Length (over the ~500 lines of docs/architecture.md's rule): the contact laws, the loads and the
+sparse solve they feed use the same named tuples (SpringState, ContactLaw, ApertureMap); the
+line-by-line solve of axis-aligned networks is apart (chains.py). About a third of the module is
+documentation of the model and its units.
 """
 
 from __future__ import annotations

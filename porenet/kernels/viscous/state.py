@@ -25,6 +25,10 @@ Slots of the counter and total arrays, columns of the records and status codes a
 
 Scaled units throughout (docs/model.md section 4): lengths by ``a``, pressures by
 ``gamma / a``, times by ``mu a / gamma``, volumes by ``a**3``.
+
+Length (over the ~500 lines of docs/architecture.md's rule): by design: every named structure of
+the viscous kernels and what each array means, in one place (see above); splitting it would send
+a reader to several files to learn one state.
 """
 
 from __future__ import annotations
