@@ -16,9 +16,8 @@ from typing import Any
 import numpy as np
 
 from porenet.sweep.files import atomic_write_text, read_text
+from porenet.sweep.layout import SUMMARY_CSV
 from porenet.sweep.spec import RunSpec
-
-SUMMARY_CSV = "summary.csv"
 
 #: Values taken from each run's summary into ``summary.csv``.
 SUMMARY_FIELDS = (
@@ -127,7 +126,6 @@ class SummaryTable:
 
 
 __all__ = [
-    "SUMMARY_CSV",
     "SUMMARY_FIELDS",
     "SummaryTable",
     "error_text",

@@ -1,6 +1,6 @@
 """Running a sweep: output directory, resume, failures, ``summary.csv`` and progress.
 
-Layout of ``DIR`` (docs/sweeps.md)::
+Layout of ``DIR`` (docs/sweeps.md; the names are :mod:`porenet.sweep.layout`'s)::
 
     DIR/sweep.json              the resolved sweep: spec, columns and every run's scene
     DIR/summary.csv             one row per finished run (rewritten atomically after each)
@@ -50,10 +50,10 @@ from porenet.sweep.files import (
     remove,
     storage_error,
 )
+from porenet.sweep.layout import ERROR_SUFFIX, RUNS_DIR, SUMMARY_CSV, SWEEP_JSON
 from porenet.sweep.lock import DirectoryLock, SweepLocked
 from porenet.sweep.progress import Progress, clock, format_progress
 from porenet.sweep.records import (
-    SUMMARY_CSV,
     SUMMARY_FIELDS,
     SummaryTable,
     error_text,
@@ -64,9 +64,6 @@ from porenet.sweep.records import (
 from porenet.sweep.spec import RunSpec, Sweep, columns, expand, load_sweep
 
 log = logging.getLogger(__name__)
-
-SWEEP_JSON = "sweep.json"
-RUNS_DIR = "runs"
 
 
 class SweepInterrupted(PorenetError):
@@ -283,7 +280,7 @@ def _scan(
 
     runs_dir = out_dir / RUNS_DIR
     known = {run.run_id for run in runs}
-    patterns = ("*.h5", "*.error.txt", f"*{CHECKPOINT}")
+    patterns = ("*.h5", f"*{ERROR_SUFFIX}", f"*{CHECKPOINT}")
     for path in sorted(p for pattern in patterns for p in runs_dir.glob(pattern)):
         stem = path.name.split(".")[0]
         if stem not in known:
@@ -295,7 +292,7 @@ def _scan(
     todo: list[RunSpec] = []
     for run in runs:
         run_path = out_dir / run.run_file
-        error_path = runs_dir / f"{run.run_id}.error.txt"
+        error_path = runs_dir / f"{run.run_id}{ERROR_SUFFIX}"
         if run_path.is_file():
             try:
                 data = read_run(run_path)
@@ -531,7 +528,7 @@ def _write_resolved(out: Path, sweep: Sweep, runs: list[RunSpec], swept: list[st
 
 def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryTable) -> None:
     """Record one outcome: a result dict of :func:`execute_run`, or an exception."""
-    error_path = out / RUNS_DIR / f"{run.run_id}.error.txt"
+    error_path = out / RUNS_DIR / f"{run.run_id}{ERROR_SUFFIX}"
     if isinstance(outcome, BaseException) and not isinstance(outcome, Exception):
         raise KeyboardInterrupt  # a worker was interrupted: so are we
     if isinstance(outcome, Exception):

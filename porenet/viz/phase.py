@@ -52,17 +52,12 @@ from porenet.analysis.numbers import disorder_factor, modified_capillary_number
 from porenet.analysis.regimes import INTERMEDIATE_HALF_WIDTH, REGIMES
 from porenet.config.loading import get_dotted
 from porenet.core.errors import ConfigError
+from porenet.sweep.layout import SUMMARY_CSV, SWEEP_JSON
 from porenet.viz.style import SEQUENTIAL, styled
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-
-#: File name of a sweep's summary table inside its output directory.
-SUMMARY_NAME = "summary.csv"
-
-#: The resolved sweep (every run's scene) that `porenet sweep` writes next to the summary.
-SWEEP_JSON = "sweep.json"
 
 #: Axis kinds of :func:`plot_phase_diagram`.
 AXES_KINDS: tuple[str, ...] = ("auto", "ca-lambda", "nf-castar")
@@ -143,7 +138,7 @@ def read_summary(path: str | Path) -> SummaryTable:
         summary (no ``status`` column).
     """
     path = Path(path)
-    csv_path = path if path.suffix.lower() == ".csv" else path / SUMMARY_NAME
+    csv_path = path if path.suffix.lower() == ".csv" else path / SUMMARY_CSV
     if not csv_path.is_file():
         where = csv_path.parent
         if not where.exists():
@@ -151,7 +146,7 @@ def read_summary(path: str | Path) -> SummaryTable:
                 f"{where}: no such directory; run `porenet sweep SWEEP.toml -o {where}` first"
             )
         raise ConfigError(
-            f"{where}: no {SUMMARY_NAME}; run `porenet sweep SWEEP.toml -o {where}` first"
+            f"{where}: no {SUMMARY_CSV}; run `porenet sweep SWEEP.toml -o {where}` first"
         )
     with csv_path.open(newline="", encoding="utf-8") as f:
         reader = csv.DictReader(f)
