@@ -317,8 +317,9 @@ def cmd_phase_diagram(args: argparse.Namespace) -> int:
     out = Path(args.output)
     cli_checks.check_picture_output(out, "-o")
     from porenet.io.atomic import atomic_write_bytes
+    from porenet.sweep.records import read_summary
     from porenet.viz.pattern import save_figure
-    from porenet.viz.phase import phase_points, plot_phase_diagram, points_table, read_summary
+    from porenet.viz.phase import phase_points, plot_phase_diagram, points_table
 
     table = read_summary(directory)
     fig = plot_phase_diagram(table, axes=args.axes)

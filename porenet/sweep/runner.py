@@ -55,7 +55,7 @@ from porenet.sweep.lock import DirectoryLock, SweepLocked
 from porenet.sweep.progress import Progress, clock, format_progress
 from porenet.sweep.records import (
     SUMMARY_FIELDS,
-    SummaryTable,
+    SummaryWriter,
     error_text,
     plain,
     read_error,
@@ -272,7 +272,7 @@ def _edited(path: Path, run: RunSpec, sweep: Sweep, recorded: dict[str, Any]) ->
 
 
 def _scan(
-    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: SummaryTable, retry_failed: bool
+    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: SummaryWriter, retry_failed: bool
 ) -> list[RunSpec]:
     """Record finished runs in ``table``; return the runs to do. Refuses foreign files."""
     from porenet.io.checkpoint import SUFFIX as CHECKPOINT
@@ -429,7 +429,7 @@ class SweepOptions:
 def _run_locked(sweep: Sweep, runs: list[RunSpec], out: Path, options: SweepOptions) -> SweepReport:
     """:func:`run_sweep` once it holds the directory's lock."""
     swept = columns(sweep.spec)
-    table = SummaryTable(out, runs, swept)
+    table = SummaryWriter(out, runs, swept)
     todo: list[RunSpec] = []
     ex: Executor | None = None
     own = False
@@ -526,7 +526,7 @@ def _write_resolved(out: Path, sweep: Sweep, runs: list[RunSpec], swept: list[st
     atomic_write_text(out / SWEEP_JSON, json.dumps(resolved, indent=1) + "\n")
 
 
-def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryTable) -> None:
+def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryWriter) -> None:
     """Record one outcome: a result dict of :func:`execute_run`, or an exception."""
     error_path = out / RUNS_DIR / f"{run.run_id}{ERROR_SUFFIX}"
     if isinstance(outcome, BaseException) and not isinstance(outcome, Exception):

@@ -2,8 +2,8 @@
 
 The input is the summary table that ``porenet sweep SWEEP.toml -o DIR`` writes
 (``DIR/summary.csv``, one row per run: the swept keys under their dotted names, ``seed``,
-``status``, ``fractal_dimension``, ``regime``, ``run_file``, ...), read with :func:`read_summary`
-(the csv module; no pandas).
+``status``, ``fractal_dimension``, ``regime``, ``run_file``, ...), read with
+:func:`porenet.sweep.records.read_summary` (the csv module; no pandas).
 
 Axes (``axes=``):
 
@@ -37,12 +37,9 @@ diagrams compare, with the paper's values (FR 1.43, VF 1.64, CF 1.82) marked on 
 
 from __future__ import annotations
 
-import contextlib
-import csv
-import json
 import math
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -52,7 +49,7 @@ from porenet.analysis.numbers import disorder_factor, modified_capillary_number
 from porenet.analysis.regimes import INTERMEDIATE_HALF_WIDTH, REGIMES
 from porenet.config.loading import get_dotted
 from porenet.core.errors import ConfigError
-from porenet.sweep.layout import SUMMARY_CSV, SWEEP_JSON
+from porenet.sweep.records import SummaryLike, SweepSummary, as_summary
 from porenet.viz.style import SEQUENTIAL, styled
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -79,104 +76,9 @@ PAPER_DIMENSIONS: dict[str, float] = {"FR": 1.43, "VF": 1.64, "CF": 1.82}
 #: Fixed colour scale of D_f (values outside are drawn at the ends; the bar says so).
 DIMENSION_RANGE: tuple[float, float] = (1.3, 1.95)
 
-#: Columns of the summary that hold a swept parameter: dotted scene keys and this one.
-DERIVED_COLUMNS: tuple[str, ...] = ("ca_star",)
-
 _LAMBDA, _CA, _N = "lattice.disorder", "fluid.capillary_number", "lattice.n"
 _NF_COLUMNS = ("solid.fracturing_number", "fracturing_number")
 _FAILED_GREY = "0.45"
-
-
-@dataclass
-class SummaryTable:
-    """A sweep's summary: its rows (values parsed: numbers as float, empty as None), its
-    columns in file order, and the directory its ``run_file`` entries are relative to."""
-
-    rows: list[dict[str, Any]]
-    columns: list[str]
-    root: Path = field(default_factory=Path.cwd)
-    source: Path | None = None
-    #: Each run's scene by run_id, from ``DIR/sweep.json`` when the sweep wrote one.
-    scenes: dict[str, dict[str, Any]] = field(default_factory=dict)
-
-    @property
-    def parameter_columns(self) -> list[str]:
-        """The columns that identify a point: dotted scene keys and derived axes."""
-        return [c for c in self.columns if "." in c or c in DERIVED_COLUMNS]
-
-    @property
-    def name(self) -> str:
-        """A short name for titles: the sweep directory's name."""
-        return self.root.name if self.source is not None else ""
-
-
-#: Summary columns kept as text (never parsed as numbers).
-_TEXT_COLUMNS = frozenset({"run_id", "status", "regime", "run_file", "error"})
-
-
-def _parse(value: str | None, column: str = "") -> Any:
-    if value is None:
-        return None
-    text = value.strip()
-    if text == "":
-        return None
-    if column in _TEXT_COLUMNS:
-        return text
-    try:
-        return float(text)
-    except ValueError:
-        return text
-
-
-def read_summary(path: str | Path) -> SummaryTable:
-    """Read ``DIR/summary.csv`` (give the directory or the CSV file itself).
-
-    Raises
-    ------
-    ConfigError
-        If there is no summary (saying to run ``porenet sweep`` first) or it is not a sweep
-        summary (no ``status`` column).
-    """
-    path = Path(path)
-    csv_path = path if path.suffix.lower() == ".csv" else path / SUMMARY_CSV
-    if not csv_path.is_file():
-        where = csv_path.parent
-        if not where.exists():
-            raise ConfigError(
-                f"{where}: no such directory; run `porenet sweep SWEEP.toml -o {where}` first"
-            )
-        raise ConfigError(
-            f"{where}: no {SUMMARY_CSV}; run `porenet sweep SWEEP.toml -o {where}` first"
-        )
-    with csv_path.open(newline="", encoding="utf-8") as f:
-        reader = csv.DictReader(f)
-        columns = list(reader.fieldnames or [])
-        rows = [{k: _parse(v, k) for k, v in row.items() if k is not None} for row in reader]
-    if "status" not in columns:
-        raise ConfigError(f"{csv_path}: column 'status' missing; not a `porenet sweep` summary")
-    scenes: dict[str, dict[str, Any]] = {}
-    resolved = csv_path.parent / SWEEP_JSON
-    if resolved.is_file():
-        with contextlib.suppress(OSError, ValueError, TypeError, AttributeError):
-            runs = json.loads(resolved.read_text(encoding="utf-8")).get("runs", [])
-            scenes = {
-                str(r["run_id"]): r["scene"] for r in runs if isinstance(r.get("scene"), dict)
-            }
-    return SummaryTable(
-        rows=rows, columns=columns, root=csv_path.parent, source=csv_path, scenes=scenes
-    )
-
-
-def _as_table(table: SummaryTable | str | Path | list[dict[str, Any]]) -> SummaryTable:
-    if isinstance(table, SummaryTable):
-        return table
-    if isinstance(table, str | Path):
-        return read_summary(table)
-    rows = [dict(r) for r in table]
-    columns: list[str] = []
-    for r in rows:
-        columns += [k for k in r if k not in columns]
-    return SummaryTable(rows=rows, columns=columns)
 
 
 def _number(value: Any) -> float | None:
@@ -247,7 +149,7 @@ def _fracturing_number(scene: dict[str, Any], summary: dict[str, Any]) -> float 
     return nf if nf is not None else _number(get_dotted(scene, "solid.fracturing_number"))
 
 
-def _group(table: SummaryTable) -> list[list[dict[str, Any]]]:
+def _group(table: SweepSummary) -> list[list[dict[str, Any]]]:
     keys = table.parameter_columns
     groups: dict[tuple[Any, ...], list[dict[str, Any]]] = {}
     for row in table.rows:
@@ -255,7 +157,7 @@ def _group(table: SummaryTable) -> list[list[dict[str, Any]]]:
     return list(groups.values())
 
 
-def _deformable(table: SummaryTable, runs: _RunCache) -> bool:
+def _deformable(table: SweepSummary, runs: _RunCache) -> bool:
     if any(c in table.columns for c in _NF_COLUMNS):
         return True
     for scene in table.scenes.values():
@@ -267,10 +169,10 @@ def _deformable(table: SummaryTable, runs: _RunCache) -> bool:
     return False
 
 
-def choose_axes(table: SummaryTable | str | Path | list[dict[str, Any]]) -> str:
+def choose_axes(table: SummaryLike) -> str:
     """The axis kind ``"auto"`` stands for: ``"nf-castar"`` when the table has an N_f
     column or its runs are deformable, ``"ca-lambda"`` otherwise."""
-    table = _as_table(table)
+    table = as_summary(table)
     return "nf-castar" if _deformable(table, _RunCache(table.root)) else "ca-lambda"
 
 
@@ -287,9 +189,7 @@ def _majority(done: list[dict[str, Any]]) -> tuple[str | None, float, dict[str, 
     return best, counts[best] / len(done), dict(counts)
 
 
-def phase_points(
-    table: SummaryTable | str | Path | list[dict[str, Any]], axes: str = "auto"
-) -> tuple[str, list[PhasePoint]]:
+def phase_points(table: SummaryLike, axes: str = "auto") -> tuple[str, list[PhasePoint]]:
     """Aggregate a summary into the points of a phase diagram.
 
     Returns the axis kind used (``axes``, or what ``"auto"`` picked) and one
@@ -303,7 +203,7 @@ def phase_points(
     """
     if axes not in AXES_KINDS:
         raise ConfigError(f"axes {axes!r}: unknown; use one of {', '.join(AXES_KINDS)}")
-    table = _as_table(table)
+    table = as_summary(table)
     runs = _RunCache(table.root)
     if axes == "auto":
         axes = "nf-castar" if _deformable(table, runs) else "ca-lambda"
@@ -425,7 +325,7 @@ def _draw_nf_castar(ax: Axes, points: list[PhasePoint]) -> None:
 
 @styled
 def plot_phase_diagram(
-    table: SummaryTable | str | Path | list[dict[str, Any]],
+    table: SummaryLike,
     ax: Axes | None = None,
     axes: str = "auto",
     title: str | None = None,
@@ -434,9 +334,10 @@ def plot_phase_diagram(
 
     Parameters
     ----------
-    table : SummaryTable, path or list of dict
-        What :func:`read_summary` returns, a sweep directory or ``summary.csv`` path, or rows
-        as dicts (``run_file`` entries then relative to the current directory).
+    table : SweepSummary, path or list of dict
+        What :func:`~porenet.sweep.records.read_summary` returns, a sweep directory or
+        ``summary.csv`` path, or rows as dicts (``run_file`` entries then relative to the
+        current directory).
     ax : matplotlib Axes, optional
     axes : {"auto", "ca-lambda", "nf-castar"}
     title : str, optional
@@ -452,7 +353,7 @@ def plot_phase_diagram(
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
-    table = _as_table(table)
+    table = as_summary(table)
     kind, points = phase_points(table, axes)
     placed = [p for p in points if p.placed]
     if not placed:
@@ -596,11 +497,11 @@ def points_table(points: list[PhasePoint]) -> str:
 
 
 def regime_dimensions(
-    table: SummaryTable | str | Path | list[dict[str, Any]],
+    table: SummaryLike,
 ) -> dict[str, tuple[float, float, int]]:
     """Per regime label: mean D_f, standard deviation and count over the finished runs with
     that label (each run counts with its own label, replicates not aggregated)."""
-    table = _as_table(table)
+    table = as_summary(table)
     by_label: dict[str, list[float]] = {}
     for row in table.rows:
         d_f = _number(row.get("fractal_dimension"))
@@ -627,7 +528,7 @@ _KEY_LABELS = {
 
 @styled
 def plot_dimension_curve(
-    table: SummaryTable | str | Path | list[dict[str, Any]],
+    table: SummaryLike,
     key: str | None = None,
     ax: Axes | None = None,
     title: str | None = None,
@@ -651,7 +552,7 @@ def plot_dimension_curve(
     """
     from matplotlib.figure import Figure
 
-    table = _as_table(table)
+    table = as_summary(table)
     params = table.parameter_columns
     if key is None:
         if not params:

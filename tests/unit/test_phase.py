@@ -14,6 +14,7 @@ import porenet
 from porenet.analysis.numbers import modified_capillary_number
 from porenet.cli import main
 from porenet.core.errors import ConfigError
+from porenet.sweep.records import read_summary
 from porenet.viz.phase import (
     MARKERS,
     choose_axes,
@@ -21,7 +22,6 @@ from porenet.viz.phase import (
     plot_dimension_curve,
     plot_phase_diagram,
     points_table,
-    read_summary,
     regime_dimensions,
 )
 
@@ -131,21 +131,6 @@ def run_files(tmp_path_factory):
         output=folder / "hertz.h5",
     )
     return folder.parent
-
-
-def test_read_summary_parses_numbers_and_names_parameters(rigid_dir):
-    table = read_summary(rigid_dir)
-    assert table.parameter_columns == ["lattice.disorder", "fluid.capillary_number", "lattice.n"]
-    assert table.rows[0]["lattice.disorder"] == 0.1 and table.rows[0]["regime"] == "CF/VF"
-    assert table.rows[-1]["fractal_dimension"] is None  # empty cell
-    assert read_summary(rigid_dir / "summary.csv").rows == table.rows
-
-
-def test_missing_summary_says_to_run_the_sweep(tmp_path):
-    with pytest.raises(ConfigError, match=r"no summary\.csv; run `porenet sweep"):
-        read_summary(tmp_path)
-    with pytest.raises(ConfigError, match="no such directory"):
-        read_summary(tmp_path / "nowhere")
 
 
 def test_replicates_are_aggregated_by_majority_and_mean(rigid_dir):
