@@ -300,9 +300,11 @@ def cmd_phase_diagram(args: argparse.Namespace) -> int:
         cli_checks.check_output_file(Path(args.table), "--table")
     out = Path(args.output)
     cli_checks.check_picture_output(out, "-o")
+    from porenet.analysis.phase import phase_points, points_table
     from porenet.io.atomic import atomic_write_bytes
+    from porenet.sweep.records import read_summary
     from porenet.viz.pattern import save_figure
-    from porenet.viz.phase import phase_points, plot_phase_diagram, points_table, read_summary
+    from porenet.viz.phase import plot_phase_diagram
 
     table = read_summary(directory)
     fig = plot_phase_diagram(table, axes=args.axes)

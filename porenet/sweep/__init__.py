@@ -11,6 +11,7 @@ from __future__ import annotations
 from porenet.sweep.executors import DaskExecutor, Executor, LocalExecutor, SerialExecutor
 from porenet.sweep.files import SweepIOError
 from porenet.sweep.lock import SweepLocked
+from porenet.sweep.records import SweepSummary, read_summary
 from porenet.sweep.runner import (
     SUMMARY_FIELDS,
     Progress,
@@ -38,9 +39,11 @@ __all__ = [
     "SweepLocked",
     "SweepReport",
     "SweepSpec",
+    "SweepSummary",
     "execute_run",
     "expand",
     "format_progress",
     "load_sweep",
+    "read_summary",
     "run_sweep",
 ]

@@ -1,7 +1,11 @@
-"""The sweep's records: the rows of ``summary.csv`` and the error records of failed runs.
+"""The sweep's records: ``summary.csv`` (its writer and its reader) and the error records of
+failed runs.
 
-Both are written with :func:`porenet.sweep.files.atomic_write_text` (docs/sweeps.md,
-"The output directory").
+:class:`SummaryWriter` (the runner's) and the error records are written with
+:func:`porenet.sweep.files.atomic_write_text`; :func:`read_summary` reads the table back as a
+:class:`SweepSummary` (what the phase diagram, :mod:`porenet.analysis.phase`, aggregates).
+The columns and the directory's layout are docs/sweeps.md, "The output directory"; the file
+names are :mod:`porenet.sweep.layout`'s.
 """
 
 from __future__ import annotations
@@ -10,15 +14,16 @@ import contextlib
 import csv
 import io
 import json
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from porenet.core.errors import ConfigError
 from porenet.sweep.files import atomic_write_text, read_text
-from porenet.sweep.spec import RunSpec
-
-SUMMARY_CSV = "summary.csv"
+from porenet.sweep.layout import SUMMARY_CSV, SWEEP_JSON
+from porenet.sweep.spec import DERIVED, RunSpec
 
 #: Values taken from each run's summary into ``summary.csv``.
 SUMMARY_FIELDS = (
@@ -93,9 +98,13 @@ def read_error(path: Path) -> tuple[str, float | None, dict[str, Any] | None]:
     return message, wall, scene
 
 
-class SummaryTable:
-    """The rows of ``summary.csv`` (finished runs, in run order); :meth:`write` replaces the
-    file atomically, so it always holds a whole table."""
+#: Columns of ``summary.csv`` read back as text (never parsed as numbers).
+TEXT_COLUMNS: tuple[str, ...] = ("run_id", "status", "regime", "run_file", "error")
+
+
+class SummaryWriter:
+    """Writes ``DIR/summary.csv``: the rows of the finished runs, in run order; :meth:`write`
+    replaces the file atomically, so it always holds a whole table."""
 
     def __init__(self, out_dir: Path, runs: list[RunSpec], swept: list[str]) -> None:
         self.path = out_dir / SUMMARY_CSV
@@ -126,12 +135,120 @@ class SummaryTable:
         atomic_write_text(self.path, buf.getvalue())
 
 
+@dataclass
+class SweepSummary:
+    """A sweep's summary as read back: its rows (values parsed: numbers as float, empty cells
+    as None, :data:`TEXT_COLUMNS` and other text as str), its columns in file order, and the
+    directory its ``run_file`` entries are relative to."""
+
+    rows: list[dict[str, Any]]
+    columns: list[str]
+    root: Path = field(default_factory=Path.cwd)
+    source: Path | None = None
+    #: Each run's scene by run_id, from ``DIR/sweep.json`` when the sweep wrote one.
+    scenes: dict[str, dict[str, Any]] = field(default_factory=dict)
+
+    @classmethod
+    def from_rows(cls, rows: list[dict[str, Any]]) -> SweepSummary:
+        """A summary of rows given as dicts (values taken as they are; columns in order of
+        first appearance; ``run_file`` entries relative to the current directory)."""
+        rows = [dict(r) for r in rows]
+        columns: list[str] = []
+        for r in rows:
+            columns += [k for k in r if k not in columns]
+        return cls(rows=rows, columns=columns)
+
+    @property
+    def parameter_columns(self) -> list[str]:
+        """The columns that identify a point: dotted scene keys and derived keys
+        (:data:`porenet.sweep.spec.DERIVED`)."""
+        return [c for c in self.columns if "." in c or c in DERIVED]
+
+    @property
+    def name(self) -> str:
+        """A short name for titles: the sweep directory's name ("" for rows given as dicts)."""
+        return self.root.name if self.source is not None else ""
+
+
+#: What the readers of a summary accept: a summary, a sweep directory or its ``summary.csv``,
+#: or rows as dicts.
+SummaryLike = SweepSummary | str | Path | list[dict[str, Any]]
+
+
+def _parse(value: str | None, column: str) -> Any:
+    if value is None:
+        return None
+    text = value.strip()
+    if text == "":
+        return None
+    if column in TEXT_COLUMNS:
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def read_summary(path: str | Path) -> SweepSummary:
+    """Read ``DIR/summary.csv`` (give the directory or the CSV file itself), and every run's
+    scene from ``DIR/sweep.json`` when it is there and readable.
+
+    Raises
+    ------
+    ConfigError
+        If there is no summary (saying to run ``porenet sweep`` first) or it is not a sweep
+        summary (no ``status`` column); the message names the file or directory.
+    """
+    path = Path(path)
+    csv_path = path if path.suffix.lower() == ".csv" else path / SUMMARY_CSV
+    if not csv_path.is_file():
+        where = csv_path.parent
+        if not where.exists():
+            raise ConfigError(
+                f"{where}: no such directory; run `porenet sweep SWEEP.toml -o {where}` first"
+            )
+        raise ConfigError(
+            f"{where}: no {SUMMARY_CSV}; run `porenet sweep SWEEP.toml -o {where}` first"
+        )
+    with csv_path.open(newline="", encoding="utf-8") as f:
+        reader = csv.DictReader(f)
+        columns = list(reader.fieldnames or [])
+        rows = [{k: _parse(v, k) for k, v in row.items() if k is not None} for row in reader]
+    if "status" not in columns:
+        raise ConfigError(f"{csv_path}: column 'status' missing; not a `porenet sweep` summary")
+    scenes: dict[str, dict[str, Any]] = {}
+    resolved = csv_path.parent / SWEEP_JSON
+    if resolved.is_file():
+        with contextlib.suppress(OSError, ValueError, TypeError, AttributeError):
+            runs = json.loads(resolved.read_text(encoding="utf-8")).get("runs", [])
+            scenes = {
+                str(r["run_id"]): r["scene"] for r in runs if isinstance(r.get("scene"), dict)
+            }
+    return SweepSummary(
+        rows=rows, columns=columns, root=csv_path.parent, source=csv_path, scenes=scenes
+    )
+
+
+def as_summary(table: SummaryLike) -> SweepSummary:
+    """``table`` as a :class:`SweepSummary`: itself, read with :func:`read_summary` (a path),
+    or :meth:`SweepSummary.from_rows` (a list of dicts)."""
+    if isinstance(table, SweepSummary):
+        return table
+    if isinstance(table, str | Path):
+        return read_summary(table)
+    return SweepSummary.from_rows(table)
+
+
 __all__ = [
-    "SUMMARY_CSV",
     "SUMMARY_FIELDS",
-    "SummaryTable",
+    "TEXT_COLUMNS",
+    "SummaryLike",
+    "SummaryWriter",
+    "SweepSummary",
+    "as_summary",
     "error_text",
     "plain",
     "read_error",
+    "read_summary",
     "scene_difference",
 ]

@@ -1,6 +1,6 @@
 """Running a sweep: output directory, resume, failures, ``summary.csv`` and progress.
 
-Layout of ``DIR`` (docs/sweeps.md)::
+Layout of ``DIR`` (docs/sweeps.md; the names are :mod:`porenet.sweep.layout`'s)::
 
     DIR/sweep.json              the resolved sweep: spec, columns and every run's scene
     DIR/summary.csv             one row per finished run (rewritten atomically after each)
@@ -48,12 +48,12 @@ from porenet.sweep.files import (
     io_error,
     remove,
 )
+from porenet.sweep.layout import ERROR_SUFFIX, RUNS_DIR, SUMMARY_CSV, SWEEP_JSON
 from porenet.sweep.lock import DirectoryLock, SweepLocked
 from porenet.sweep.progress import Progress, clock, format_progress
 from porenet.sweep.records import (
-    SUMMARY_CSV,
     SUMMARY_FIELDS,
-    SummaryTable,
+    SummaryWriter,
     error_text,
     read_error,
     scene_difference,
@@ -62,9 +62,6 @@ from porenet.sweep.spec import RunSpec, Sweep, columns, expand, load_sweep
 from porenet.sweep.worker import RunTask, execute_run, one_line
 
 log = logging.getLogger(__name__)
-
-SWEEP_JSON = "sweep.json"
-RUNS_DIR = "runs"
 
 
 class SweepInterrupted(PorenetError):
@@ -147,7 +144,7 @@ def _edited(path: Path, run: RunSpec, sweep: Sweep, recorded: dict[str, Any]) ->
 
 
 def _scan(
-    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: SummaryTable, retry_failed: bool
+    out_dir: Path, runs: list[RunSpec], sweep: Sweep, table: SummaryWriter, retry_failed: bool
 ) -> list[RunSpec]:
     """Record finished runs in ``table``; return the runs to do. Refuses foreign files."""
     from porenet.io.checkpoint import SUFFIX as CHECKPOINT
@@ -155,7 +152,7 @@ def _scan(
 
     runs_dir = out_dir / RUNS_DIR
     known = {run.run_id for run in runs}
-    patterns = ("*.h5", "*.error.txt", f"*{CHECKPOINT}")
+    patterns = ("*.h5", f"*{ERROR_SUFFIX}", f"*{CHECKPOINT}")
     for path in sorted(p for pattern in patterns for p in runs_dir.glob(pattern)):
         stem = path.name.split(".")[0]
         if stem not in known:
@@ -167,7 +164,7 @@ def _scan(
     todo: list[RunSpec] = []
     for run in runs:
         run_path = out_dir / run.run_file
-        error_path = runs_dir / f"{run.run_id}.error.txt"
+        error_path = runs_dir / f"{run.run_id}{ERROR_SUFFIX}"
         if run_path.is_file():
             try:
                 data = read_run(run_path)
@@ -304,7 +301,7 @@ class SweepOptions:
 def _run_locked(sweep: Sweep, runs: list[RunSpec], out: Path, options: SweepOptions) -> SweepReport:
     """:func:`run_sweep` once it holds the directory's lock."""
     swept = columns(sweep.spec)
-    table = SummaryTable(out, runs, swept)
+    table = SummaryWriter(out, runs, swept)
     todo: list[RunSpec] = []
     ex: Executor | None = None
     own = False
@@ -401,9 +398,9 @@ def _write_resolved(out: Path, sweep: Sweep, runs: list[RunSpec], swept: list[st
     atomic_write_text(out / SWEEP_JSON, json.dumps(resolved, indent=1) + "\n")
 
 
-def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryTable) -> None:
+def _finish(out: Path, run: RunSpec, outcome: Any, table: SummaryWriter) -> None:
     """Record one outcome: a result dict of :func:`execute_run`, or an exception."""
-    error_path = out / RUNS_DIR / f"{run.run_id}.error.txt"
+    error_path = out / RUNS_DIR / f"{run.run_id}{ERROR_SUFFIX}"
     if isinstance(outcome, BaseException) and not isinstance(outcome, Exception):
         raise KeyboardInterrupt  # a worker was interrupted: so are we
     if isinstance(outcome, Exception):

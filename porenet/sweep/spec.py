@@ -27,6 +27,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from porenet.config.loading import format_validation_error, get_dotted, read_toml, set_dotted
 from porenet.core.errors import ConfigError
+from porenet.sweep.layout import RUNS_DIR
 
 
 class RangeSpec(BaseModel):
@@ -286,7 +287,7 @@ class RunSpec:
     @property
     def run_file(self) -> str:
         """The run file, relative to the sweep's output directory."""
-        return f"runs/{self.run_id}.h5"
+        return f"{RUNS_DIR}/{self.run_id}.h5"
 
 
 def replicate_seed(root_seed: int, replicate: int) -> int:

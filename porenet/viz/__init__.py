@@ -14,7 +14,7 @@ from porenet.viz.mechanics import (
     plot_spring_removal,
 )
 from porenet.viz.pattern import plot_pattern, save_figure
-from porenet.viz.phase import plot_phase_diagram, read_summary
+from porenet.viz.phase import plot_phase_diagram
 from porenet.viz.pressure import plot_pressure_halo
 from porenet.viz.timeseries import plot_entry_pressure, plot_timeseries
 
@@ -31,6 +31,5 @@ __all__ = [
     "plot_pressure_halo",
     "plot_spring_removal",
     "plot_timeseries",
-    "read_summary",
     "save_figure",
 ]

@@ -1,9 +1,9 @@
-"""Phase diagrams of a sweep: regimes on the paper's Ca–λ (Fig. 2) or N_f–Ca* (Fig. 3) axes.
+"""Phase diagrams of a sweep drawn: regimes on the paper's Ca–λ (Fig. 2) or N_f–Ca* (Fig. 3)
+axes, and D_f against one swept key (Figs. 4-5).
 
-The input is the summary table that ``porenet sweep SWEEP.toml -o DIR`` writes
-(``DIR/summary.csv``, one row per run: the swept keys under their dotted names, ``seed``,
-``status``, ``fractal_dimension``, ``regime``, ``run_file``, ...), read with :func:`read_summary`
-(the csv module; no pandas).
+What is drawn comes from :mod:`porenet.analysis.phase` (the summary's runs aggregated into
+points, replicates by majority label; its docstring says how coordinates are found), which
+loads no matplotlib; this module only draws.
 
 Axes (``axes=``):
 
@@ -15,57 +15,39 @@ Axes (``axes=``):
 * ``"nf-castar"`` (deformable media, Fig. 3): x = ``Ca* = Ca (L/a) / [λ/(1-λ²)]`` (log),
   y = fracturing number N_f (log), dashed lines ``N_f = 1`` and ``Ca* = 1`` (below
   ``N_f = 1``, where fingering is left), as the grey dashed lines of Fig. 3.
-* ``"auto"``: ``nf-castar`` when the table has a fracturing-number column
-  (``solid.fracturing_number``) or its runs are deformable, ``ca-lambda`` otherwise.
+* ``"auto"``: :func:`porenet.analysis.phase.choose_axes`.
 
-Coordinates come from the table's columns when the key was swept (``lattice.disorder``,
-``fluid.capillary_number``, ``lattice.n``, ``ca_star``, ``solid.fracturing_number``), else
-from the point's scene in ``DIR/sweep.json`` (written by ``porenet sweep``), else from a run
-file of the point (``RunData.scene``; N_f from its summary for scenes that give E* only).
-``Ca*`` is computed from the point's ``n``, ``λ`` and ``Ca`` when it is not a column.
-
-Decision: **replicates are aggregated**. The rows of one point (same swept values, different
-seeds) give one marker: the majority label (ties go to the label with the larger summed
-``regime_confidence``, then to the first of :data:`~porenet.analysis.regimes.REGIMES`), the
-mean D_f of the finished replicates as its colour, and, when the replicates disagree, the
-fraction that voted for the label (e.g. "2/3") written next to it. This keeps one marker per
-point, as in the paper's figures, where jitter would blur the grid. Points with failed runs get
-a grey cross (on top of the marker if some replicates finished). Markers are shaped by
-regime; the colour is D_f on a fixed scale (:data:`DIMENSION_RANGE`, viridis) so that
-diagrams compare, with the paper's values (FR 1.43, VF 1.64, CF 1.82) marked on the colour bar.
+Markers: one per point, shaped by its majority label; the colour is the mean D_f of the
+finished replicates on a fixed scale (:data:`DIMENSION_RANGE`, viridis) so that diagrams
+compare, with the paper's values (FR 1.43, VF 1.64, CF 1.82) marked on the colour bar; when
+the replicates disagree, the fraction that voted for the label (e.g. "2/3") is written next
+to it. Points with failed runs get a grey cross (on top of the marker if some replicates
+finished).
 """
 
 from __future__ import annotations
 
-import contextlib
-import csv
-import json
 import math
-from collections import Counter
-from dataclasses import dataclass, field
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from porenet.analysis.numbers import disorder_factor, modified_capillary_number
-from porenet.analysis.regimes import INTERMEDIATE_HALF_WIDTH, REGIMES
-from porenet.config.loading import get_dotted
+from porenet.analysis.numbers import disorder_factor
+from porenet.analysis.phase import (
+    LABELS,
+    UNCLASSIFIED,
+    PhasePoint,
+    dimension_curve,
+    phase_points,
+)
+from porenet.analysis.regimes import INTERMEDIATE_HALF_WIDTH
 from porenet.core.errors import ConfigError
+from porenet.sweep.records import SummaryLike, as_summary
 from porenet.viz.style import SEQUENTIAL, styled
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
-
-#: File name of a sweep's summary table inside its output directory.
-SUMMARY_NAME = "summary.csv"
-
-#: The resolved sweep (every run's scene) that `porenet sweep` writes next to the summary.
-SWEEP_JSON = "sweep.json"
-
-#: Axis kinds of :func:`plot_phase_diagram`.
-AXES_KINDS: tuple[str, ...] = ("auto", "ca-lambda", "nf-castar")
 
 #: Marker of each regime label (distinct shapes; "unclassified" for runs without a label).
 MARKERS: dict[str, str] = {
@@ -75,7 +57,7 @@ MARKERS: dict[str, str] = {
     "CF/VF": "D",
     "FR/VF": "v",
     "FR/CF": "P",
-    "unclassified": "h",
+    UNCLASSIFIED: "h",
 }
 
 #: The paper's fractal dimensions (Figs. 2-5 and the Appendix).
@@ -84,292 +66,7 @@ PAPER_DIMENSIONS: dict[str, float] = {"FR": 1.43, "VF": 1.64, "CF": 1.82}
 #: Fixed colour scale of D_f (values outside are drawn at the ends; the bar says so).
 DIMENSION_RANGE: tuple[float, float] = (1.3, 1.95)
 
-#: Columns of the summary that hold a swept parameter: dotted scene keys and this one.
-DERIVED_COLUMNS: tuple[str, ...] = ("ca_star",)
-
-_LAMBDA, _CA, _N = "lattice.disorder", "fluid.capillary_number", "lattice.n"
-_NF_COLUMNS = ("solid.fracturing_number", "fracturing_number")
 _FAILED_GREY = "0.45"
-
-
-@dataclass
-class SummaryTable:
-    """A sweep's summary: its rows (values parsed: numbers as float, empty as None), its
-    columns in file order, and the directory its ``run_file`` entries are relative to."""
-
-    rows: list[dict[str, Any]]
-    columns: list[str]
-    root: Path = field(default_factory=Path.cwd)
-    source: Path | None = None
-    #: Each run's scene by run_id, from ``DIR/sweep.json`` when the sweep wrote one.
-    scenes: dict[str, dict[str, Any]] = field(default_factory=dict)
-
-    @property
-    def parameter_columns(self) -> list[str]:
-        """The columns that identify a point: dotted scene keys and derived axes."""
-        return [c for c in self.columns if "." in c or c in DERIVED_COLUMNS]
-
-    @property
-    def name(self) -> str:
-        """A short name for titles: the sweep directory's name."""
-        return self.root.name if self.source is not None else ""
-
-
-#: Summary columns kept as text (never parsed as numbers).
-_TEXT_COLUMNS = frozenset({"run_id", "status", "regime", "run_file", "error"})
-
-
-def _parse(value: str | None, column: str = "") -> Any:
-    if value is None:
-        return None
-    text = value.strip()
-    if text == "":
-        return None
-    if column in _TEXT_COLUMNS:
-        return text
-    try:
-        return float(text)
-    except ValueError:
-        return text
-
-
-def read_summary(path: str | Path) -> SummaryTable:
-    """Read ``DIR/summary.csv`` (give the directory or the CSV file itself).
-
-    Raises
-    ------
-    ConfigError
-        If there is no summary (saying to run ``porenet sweep`` first) or it is not a sweep
-        summary (no ``status`` column).
-    """
-    path = Path(path)
-    csv_path = path if path.suffix.lower() == ".csv" else path / SUMMARY_NAME
-    if not csv_path.is_file():
-        where = csv_path.parent
-        if not where.exists():
-            raise ConfigError(
-                f"{where}: no such directory; run `porenet sweep SWEEP.toml -o {where}` first"
-            )
-        raise ConfigError(
-            f"{where}: no {SUMMARY_NAME}; run `porenet sweep SWEEP.toml -o {where}` first"
-        )
-    with csv_path.open(newline="", encoding="utf-8") as f:
-        reader = csv.DictReader(f)
-        columns = list(reader.fieldnames or [])
-        rows = [{k: _parse(v, k) for k, v in row.items() if k is not None} for row in reader]
-    if "status" not in columns:
-        raise ConfigError(f"{csv_path}: column 'status' missing; not a `porenet sweep` summary")
-    scenes: dict[str, dict[str, Any]] = {}
-    resolved = csv_path.parent / SWEEP_JSON
-    if resolved.is_file():
-        with contextlib.suppress(OSError, ValueError, TypeError, AttributeError):
-            runs = json.loads(resolved.read_text(encoding="utf-8")).get("runs", [])
-            scenes = {
-                str(r["run_id"]): r["scene"] for r in runs if isinstance(r.get("scene"), dict)
-            }
-    return SummaryTable(
-        rows=rows, columns=columns, root=csv_path.parent, source=csv_path, scenes=scenes
-    )
-
-
-def _as_table(table: SummaryTable | str | Path | list[dict[str, Any]]) -> SummaryTable:
-    if isinstance(table, SummaryTable):
-        return table
-    if isinstance(table, str | Path):
-        return read_summary(table)
-    rows = [dict(r) for r in table]
-    columns: list[str] = []
-    for r in rows:
-        columns += [k for k in r if k not in columns]
-    return SummaryTable(rows=rows, columns=columns)
-
-
-def _number(value: Any) -> float | None:
-    if value is None or isinstance(value, bool):
-        return None
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        return None
-    return x if math.isfinite(x) else None
-
-
-@dataclass
-class PhasePoint:
-    """One point of a sweep (its replicates aggregated) on a phase diagram."""
-
-    params: dict[str, Any]
-    x: float | None
-    y: float | None
-    regime: str | None  # majority label of the finished runs; None if none finished
-    agreement: float  # fraction of the finished runs with that label (0 if none)
-    labels: dict[str, int]
-    dimension: float  # mean D_f of the finished runs (nan if none has one)
-    dimension_sd: float  # their standard deviation (nan for fewer than two)
-    n_runs: int
-    n_done: int
-    n_failed: int
-    disorder: float | None = None
-    capillary_number: float | None = None
-    ca_star: float | None = None
-    fracturing_number: float | None = None
-    n: int | None = None
-
-    @property
-    def placed(self) -> bool:
-        """Whether the point has finite, plottable coordinates."""
-        return self.x is not None and self.y is not None
-
-
-class _RunCache:
-    """Scenes and summaries of run files, read at most once each."""
-
-    def __init__(self, root: Path) -> None:
-        self.root = root
-        self._cache: dict[Path, tuple[dict[str, Any], dict[str, Any]] | None] = {}
-
-    def get(self, run_file: Any) -> tuple[dict[str, Any], dict[str, Any]] | None:
-        if not run_file or not isinstance(run_file, str):
-            return None
-        path = Path(run_file)
-        path = path if path.is_absolute() else self.root / path
-        if path not in self._cache:
-            from porenet.core.errors import PorenetError
-            from porenet.io.runfile import read_run
-
-            try:
-                data = read_run(path)
-                self._cache[path] = (data.scene, data.summary)
-            except PorenetError:
-                self._cache[path] = None
-        return self._cache[path]
-
-
-def _fracturing_number(scene: dict[str, Any], summary: dict[str, Any]) -> float | None:
-    if (scene.get("solid") or {}).get("kind", "rigid") == "rigid":
-        return None
-    nf = _number(summary.get("fracturing_number"))
-    return nf if nf is not None else _number(get_dotted(scene, "solid.fracturing_number"))
-
-
-def _group(table: SummaryTable) -> list[list[dict[str, Any]]]:
-    keys = table.parameter_columns
-    groups: dict[tuple[Any, ...], list[dict[str, Any]]] = {}
-    for row in table.rows:
-        groups.setdefault(tuple(row.get(k) for k in keys), []).append(row)
-    return list(groups.values())
-
-
-def _deformable(table: SummaryTable, runs: _RunCache) -> bool:
-    if any(c in table.columns for c in _NF_COLUMNS):
-        return True
-    for scene in table.scenes.values():
-        return (scene.get("solid") or {}).get("kind", "rigid") != "rigid"
-    for row in table.rows:
-        info = runs.get(row.get("run_file"))
-        if info is not None:
-            return (info[0].get("solid") or {}).get("kind", "rigid") != "rigid"
-    return False
-
-
-def choose_axes(table: SummaryTable | str | Path | list[dict[str, Any]]) -> str:
-    """The axis kind ``"auto"`` stands for: ``"nf-castar"`` when the table has an N_f
-    column or its runs are deformable, ``"ca-lambda"`` otherwise."""
-    table = _as_table(table)
-    return "nf-castar" if _deformable(table, _RunCache(table.root)) else "ca-lambda"
-
-
-def _majority(done: list[dict[str, Any]]) -> tuple[str | None, float, dict[str, int]]:
-    labels = [r.get("regime") if isinstance(r.get("regime"), str) else "unclassified" for r in done]
-    counts = Counter(labels)
-    if not counts:
-        return None, 0.0, {}
-    weight: dict[str, float] = {}
-    for r, label in zip(done, labels, strict=True):
-        weight[label] = weight.get(label, 0.0) + (_number(r.get("regime_confidence")) or 0.0)
-    order = {name: i for i, name in enumerate((*REGIMES, "unclassified"))}
-    best = max(counts, key=lambda k: (counts[k], weight[k], -order.get(k, len(order))))
-    return best, counts[best] / len(done), dict(counts)
-
-
-def phase_points(
-    table: SummaryTable | str | Path | list[dict[str, Any]], axes: str = "auto"
-) -> tuple[str, list[PhasePoint]]:
-    """Aggregate a summary into the points of a phase diagram.
-
-    Returns the axis kind used (``axes``, or what ``"auto"`` picked) and one
-    :class:`PhasePoint` per distinct combination of swept values, in the table's order.
-    Rows whose status is neither ``done`` nor ``failed`` (pending) count in ``n_runs`` only.
-
-    Raises
-    ------
-    ConfigError
-        For an unknown ``axes``.
-    """
-    if axes not in AXES_KINDS:
-        raise ConfigError(f"axes {axes!r}: unknown; use one of {', '.join(AXES_KINDS)}")
-    table = _as_table(table)
-    runs = _RunCache(table.root)
-    if axes == "auto":
-        axes = "nf-castar" if _deformable(table, runs) else "ca-lambda"
-    points = []
-    for rows in _group(table):
-        first = rows[0]
-        # the point's scene (sweep.json, else one readable run file) for what the columns lack
-        listed = next(
-            (table.scenes[k] for r in rows if (k := str(r.get("run_id"))) in table.scenes), None
-        )
-        missing = any(c not in table.columns for c in (_LAMBDA, _CA, _N))
-        nf_column = any(c in table.columns for c in _NF_COLUMNS)
-        need_nf = axes == "nf-castar" and not nf_column
-        listed_nf = _fracturing_number(listed, {}) if listed is not None else None
-        info = None
-        if (missing and listed is None) or (need_nf and listed_nf is None):
-            info = next((i for r in rows if (i := runs.get(r.get("run_file"))) is not None), None)
-        scene = listed if listed is not None else (info[0] if info else {})
-
-        def value(column: str, first: dict[str, Any] = first, scene: dict = scene) -> float | None:
-            v = _number(first.get(column))
-            if v is None and column not in table.columns:
-                v = _number(get_dotted(scene, column))
-            return v
-
-        lam, ca, n_val = value(_LAMBDA), value(_CA), value(_N)
-        ca_star = _number(first.get("ca_star"))
-        if ca_star is None and None not in (lam, ca, n_val) and 0 < lam < 1:  # type: ignore[operator]
-            ca_star = modified_capillary_number(ca, int(n_val), lam)  # type: ignore[arg-type]
-        nf = next((_number(first.get(c)) for c in _NF_COLUMNS if c in table.columns), None)
-        if nf is None:
-            nf = _fracturing_number(*info) if info is not None else listed_nf
-        if axes == "ca-lambda":
-            x, y = lam, ca if ca is not None and ca > 0 else None
-        else:
-            x = ca_star if ca_star is not None and ca_star > 0 else None
-            y = nf if nf is not None and nf > 0 else None
-        done = [r for r in rows if r.get("status") == "done"]
-        regime, agreement, labels = _majority(done)
-        dims = np.array([d for r in done if (d := _number(r.get("fractal_dimension"))) is not None])
-        points.append(
-            PhasePoint(
-                params={k: first.get(k) for k in table.parameter_columns},
-                x=x,
-                y=y,
-                regime=regime,
-                agreement=agreement,
-                labels=labels,
-                dimension=float(dims.mean()) if dims.size else math.nan,
-                dimension_sd=float(dims.std(ddof=1)) if dims.size > 1 else math.nan,
-                n_runs=len(rows),
-                n_done=len(done),
-                n_failed=sum(r.get("status") == "failed" for r in rows),
-                disorder=lam,
-                capillary_number=ca,
-                ca_star=ca_star,
-                fracturing_number=nf,
-                n=int(n_val) if n_val is not None else None,
-            )
-        )
-    return axes, points
 
 
 def _log_limits(values: list[float], pad: float = 2.0) -> tuple[float, float]:
@@ -430,7 +127,7 @@ def _draw_nf_castar(ax: Axes, points: list[PhasePoint]) -> None:
 
 @styled
 def plot_phase_diagram(
-    table: SummaryTable | str | Path | list[dict[str, Any]],
+    table: SummaryLike,
     ax: Axes | None = None,
     axes: str = "auto",
     title: str | None = None,
@@ -439,9 +136,10 @@ def plot_phase_diagram(
 
     Parameters
     ----------
-    table : SummaryTable, path or list of dict
-        What :func:`read_summary` returns, a sweep directory or ``summary.csv`` path, or rows
-        as dicts (``run_file`` entries then relative to the current directory).
+    table : SweepSummary, path or list of dict
+        What :func:`~porenet.sweep.records.read_summary` returns, a sweep directory or
+        ``summary.csv`` path, or rows as dicts (``run_file`` entries then relative to the
+        current directory).
     ax : matplotlib Axes, optional
     axes : {"auto", "ca-lambda", "nf-castar"}
     title : str, optional
@@ -457,7 +155,7 @@ def plot_phase_diagram(
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
-    table = _as_table(table)
+    table = as_summary(table)
     kind, points = phase_points(table, axes)
     placed = [p for p in points if p.placed]
     if not placed:
@@ -490,7 +188,7 @@ def plot_phase_diagram(
     for p in placed:
         if p.regime is None:
             continue
-        marker = MARKERS.get(p.regime, MARKERS["unclassified"])
+        marker = MARKERS.get(p.regime, MARKERS[UNCLASSIFIED])
         face = "white" if math.isnan(p.dimension) else cmap(norm(p.dimension))
         ax.scatter(
             [p.x], [p.y], marker=marker, s=46, c=[face], edgecolors="k", linewidths=0.6, zorder=3
@@ -520,7 +218,7 @@ def plot_phase_diagram(
             zorder=5,
         )
 
-    order = [r for r in (*REGIMES, "unclassified") if r in seen]
+    order = [r for r in LABELS if r in seen]
     handles = [
         Line2D([], [], ls="", marker=MARKERS[r], mfc="0.8", mec="k", mew=0.6, ms=6, label=r)
         for r in order
@@ -576,52 +274,6 @@ def plot_phase_diagram(
     return fig
 
 
-def points_table(points: list[PhasePoint]) -> str:
-    """A markdown table of aggregated points (what the phase diagram shows, as numbers)."""
-    header = (
-        "| λ | Ca | Ca* | N_f | runs (done/failed) | regime (votes) | D_f mean ± sd |\n"
-        "|---|---|---|---|---|---|---|"
-    )
-
-    def fmt(v: float | None, spec: str = ".3g") -> str:
-        return "" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, spec)
-
-    lines = [header]
-    for p in points:
-        votes = ", ".join(f"{k} {v}" for k, v in sorted(p.labels.items(), key=lambda kv: -kv[1]))
-        d_f = fmt(p.dimension, ".3f")
-        if d_f and not math.isnan(p.dimension_sd):
-            d_f += f" ± {p.dimension_sd:.3f}"
-        lines.append(
-            f"| {fmt(p.disorder)} | {fmt(p.capillary_number)} | {fmt(p.ca_star)} | "
-            f"{fmt(p.fracturing_number)} | {p.n_done}/{p.n_failed} | {p.regime or ''}"
-            f"{f' ({votes})' if votes else ''} | {d_f} |"
-        )
-    return "\n".join(lines) + "\n"
-
-
-def regime_dimensions(
-    table: SummaryTable | str | Path | list[dict[str, Any]],
-) -> dict[str, tuple[float, float, int]]:
-    """Per regime label: mean D_f, standard deviation and count over the finished runs with
-    that label (each run counts with its own label, replicates not aggregated)."""
-    table = _as_table(table)
-    by_label: dict[str, list[float]] = {}
-    for row in table.rows:
-        d_f = _number(row.get("fractal_dimension"))
-        if row.get("status") != "done" or d_f is None:
-            continue
-        label = row.get("regime") if isinstance(row.get("regime"), str) else "unclassified"
-        by_label.setdefault(label, []).append(d_f)
-    out: dict[str, tuple[float, float, int]] = {}
-    for label in (*REGIMES, "unclassified"):
-        if label in by_label:
-            dims = np.array(by_label[label])
-            sd = float(dims.std(ddof=1)) if dims.size > 1 else math.nan
-            out[label] = (float(dims.mean()), sd, int(dims.size))
-    return out
-
-
 _KEY_LABELS = {
     "fluid.capillary_number": "capillary number Ca (-)",
     "lattice.disorder": r"disorder $\lambda$ (-)",
@@ -632,7 +284,7 @@ _KEY_LABELS = {
 
 @styled
 def plot_dimension_curve(
-    table: SummaryTable | str | Path | list[dict[str, Any]],
+    table: SummaryLike,
     key: str | None = None,
     ax: Axes | None = None,
     title: str | None = None,
@@ -656,30 +308,15 @@ def plot_dimension_curve(
     """
     from matplotlib.figure import Figure
 
-    table = _as_table(table)
-    params = table.parameter_columns
-    if key is None:
-        if not params:
-            raise ConfigError(f"{table.source or 'the table'}: no swept column to draw D_f over")
-        key = max(params, key=lambda c: len({r.get(c) for r in table.rows}))
-    if key not in table.columns:
-        raise ConfigError(f"{table.source or 'the table'}: no column {key!r}")
-    runs = [
-        (x, d, r.get("regime") if isinstance(r.get("regime"), str) else "unclassified")
-        for r in table.rows
-        if r.get("status") == "done"
-        and (x := _number(r.get(key))) is not None
-        and (d := _number(r.get("fractal_dimension"))) is not None
-    ]
-    if not runs:
-        raise ConfigError(f"{table.source or 'the table'}: no finished run with a D_f")
+    curve = dimension_curve(table, key)
+    runs = curve.runs
     if ax is None:
         fig = Figure(figsize=(5.0, 3.6), dpi=150, layout="constrained")
         ax = fig.add_subplot()
     else:
         fig = ax.figure  # type: ignore[assignment]
     xs = np.array([x for x, _, _ in runs])
-    log = bool(np.all(xs > 0) and xs.max() / xs.min() >= 10.0)
+    log = bool(np.all(xs > 0) and xs.max() / xs.min() >= 10.0)  # axis: a factor 10 or more
     for name, value in PAPER_DIMENSIONS.items():
         ax.axhline(value, color="0.6", ls="--", lw=0.9, zorder=1)
         ax.annotate(
@@ -693,7 +330,7 @@ def plot_dimension_curve(
             fontsize=6.5,
             color="0.4",
         )
-    for label in [r for r in (*REGIMES, "unclassified") if any(g == r for _, _, g in runs)]:
+    for label in [r for r in LABELS if any(g == r for _, _, g in runs)]:
         sel = [(x, d) for x, d, g in runs if g == label]
         ax.plot(
             *zip(*sel, strict=True),
@@ -706,15 +343,10 @@ def plot_dimension_curve(
             zorder=3,
             label=label,
         )
-    grid = sorted(set(xs.tolist()))
-    means = [np.mean([d for x, d, _ in runs if x == v]) for v in grid]
-    sds = [
-        np.std([d for x, d, _ in runs if x == v], ddof=1) if sum(xs == v) > 1 else 0.0 for v in grid
-    ]
     ax.errorbar(
-        grid,
-        means,
-        yerr=sds,
+        curve.values,
+        curve.means,
+        yerr=curve.sds,
         color="k",
         lw=1.2,
         capsize=2.5,
@@ -723,10 +355,20 @@ def plot_dimension_curve(
     )
     if log:
         ax.set_xscale("log")
-    ax.set_xlabel(_KEY_LABELS.get(key, key))
+    ax.set_xlabel(_KEY_LABELS.get(curve.key, curve.key))
     ax.set_ylabel(r"fractal dimension $D_f$ (-)")
     ax.legend(loc="best", fontsize=7, ncol=2)
-    heading = title if title is not None else table.name
+    heading = title if title is not None else curve.name
     if heading:
         ax.set_title(heading, loc="left", fontsize=8)
     return fig
+
+
+__all__ = [
+    "DIMENSION_RANGE",
+    "MARKERS",
+    "PAPER_DIMENSIONS",
+    "PhasePoint",
+    "plot_dimension_curve",
+    "plot_phase_diagram",
+]

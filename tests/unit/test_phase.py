@@ -1,29 +1,32 @@
-"""Phase diagrams of a sweep (porenet.viz.phase, `porenet phase-diagram`): both axis kinds from
-hand-made summaries, coordinates read from run files when they are not columns, replicates
-aggregated, failed runs drawn, and the command's exit codes and messages."""
+"""Phase diagrams of a sweep (porenet.analysis.phase aggregates, porenet.viz.phase draws,
+`porenet phase-diagram`): both axis kinds from hand-made summaries, coordinates read from run
+files when they are not columns, replicates aggregated, failed runs drawn, and the command's
+exit codes and messages."""
 
 from __future__ import annotations
 
 import csv
 import json
 import math
+import subprocess
+import sys
 
+import numpy as np
 import pytest
 
 import porenet
 from porenet.analysis.numbers import modified_capillary_number
-from porenet.cli import main
-from porenet.core.errors import ConfigError
-from porenet.viz.phase import (
-    MARKERS,
+from porenet.analysis.phase import (
     choose_axes,
+    dimension_curve,
     phase_points,
-    plot_dimension_curve,
-    plot_phase_diagram,
     points_table,
-    read_summary,
     regime_dimensions,
 )
+from porenet.cli import main
+from porenet.core.errors import ConfigError
+from porenet.sweep.records import read_summary
+from porenet.viz.phase import MARKERS, plot_dimension_curve, plot_phase_diagram
 
 RESULT = [
     "seed",
@@ -131,21 +134,6 @@ def run_files(tmp_path_factory):
         output=folder / "hertz.h5",
     )
     return folder.parent
-
-
-def test_read_summary_parses_numbers_and_names_parameters(rigid_dir):
-    table = read_summary(rigid_dir)
-    assert table.parameter_columns == ["lattice.disorder", "fluid.capillary_number", "lattice.n"]
-    assert table.rows[0]["lattice.disorder"] == 0.1 and table.rows[0]["regime"] == "CF/VF"
-    assert table.rows[-1]["fractal_dimension"] is None  # empty cell
-    assert read_summary(rigid_dir / "summary.csv").rows == table.rows
-
-
-def test_missing_summary_says_to_run_the_sweep(tmp_path):
-    with pytest.raises(ConfigError, match=r"no summary\.csv; run `porenet sweep"):
-        read_summary(tmp_path)
-    with pytest.raises(ConfigError, match="no such directory"):
-        read_summary(tmp_path / "nowhere")
 
 
 def test_replicates_are_aggregated_by_majority_and_mean(rigid_dir):
@@ -264,6 +252,29 @@ def test_dimension_curve_over_the_most_varied_key(rigid_dir, deformable_dir):
     assert "Ca*" in ax.get_xlabel()
     with pytest.raises(ConfigError, match="no column"):
         plot_dimension_curve(rigid_dir, key="solid.fracturing_number")
+
+
+def test_dimension_curve_numbers(rigid_dir):
+    """Mean and sample sd per Ca over the finished runs (rigid_rows: D_f 1.64 for VF, 1.82
+    for CF; the failed run at lambda 0.9, Ca 1e-2 has no D_f)."""
+    curve = dimension_curve(rigid_dir, key="fluid.capillary_number")
+    assert curve.values == [1e-4, 1e-3, 1e-2]
+    assert len(curve.runs) == 17  # 18 runs, one failed
+    for value, mean, sd in zip(curve.values, curve.means, curve.sds, strict=True):
+        dims = [d for x, d, _ in curve.runs if x == value]
+        assert mean == pytest.approx(sum(dims) / len(dims))
+        assert sd == pytest.approx(float(np.std(dims, ddof=1)))
+    with pytest.raises(ConfigError, match=r"summary\.csv: no column 'nope'"):
+        dimension_curve(rigid_dir, key="nope")
+
+
+def test_aggregation_imports_no_matplotlib():
+    code = (
+        "import sys; import porenet.analysis.phase; "
+        "print(sorted(m for m in sys.modules if m.startswith('matplotlib')))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
 
 
 def test_every_regime_has_its_own_marker():
