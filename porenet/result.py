@@ -123,6 +123,11 @@ class RunData:
         Deformable media, one entry per mechanical update: ``time`` (s; 0 in quasi-static
         runs), ``drained`` (pores), ``removed_springs``, ``max_aperture_change`` (m),
         ``balance_residual`` (N).
+    observers : dict of str to dict of str to ndarray
+        What observers recorded (:meth:`porenet.core.interfaces.Observer.outputs`), SI, by
+        observer (``output_name``) and then by name; empty when no observer recorded any.
+    observer_units : dict of str to dict of str to str
+        The unit of each array of :attr:`observers`, with the same keys.
     """
 
     porenet_version: str
@@ -146,6 +151,8 @@ class RunData:
     snapshots: list[Snapshot] = field(default_factory=list)
     mechanics_final: dict[str, np.ndarray] = field(default_factory=dict)
     mechanics_series: dict[str, np.ndarray] = field(default_factory=dict)
+    observers: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+    observer_units: dict[str, dict[str, str]] = field(default_factory=dict)
 
     @property
     def n_pores(self) -> int:

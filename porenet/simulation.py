@@ -489,7 +489,25 @@ class Simulation:
             final_apertures=(state.apertures * sc.length if self.solid is not None else None),
             **self._outputs(),
             **self._solid_outputs(),
+            **self._observer_outputs(),
         )
+
+    def _observer_outputs(self) -> dict[str, Any]:
+        """The observers' records (:meth:`Observer.outputs`, SI) and their units, by
+        observer; a name two observers share gets ``-2``, ``-3``, ... on the later ones."""
+        values: dict[str, dict[str, np.ndarray]] = {}
+        units: dict[str, dict[str, str]] = {}
+        for obs in self.observers:
+            records = obs.outputs(self.state)
+            if not records:
+                continue
+            name, k = obs.output_name, 1
+            while name in values:
+                k += 1
+                name = f"{obs.output_name}-{k}"
+            values[name] = {key: np.asarray(v) for key, v in records.items()}
+            units[name] = {key: obs.output_units.get(key, "") for key in records}
+        return {"observers": values, "observer_units": units}
 
     def _solid_outputs(self) -> dict[str, Any]:
         """The solid model's final fields and per-update series (:meth:`SolidModel.outputs`)

@@ -11,6 +11,7 @@ other directly: the :class:`~porenet.simulation.Simulation` calls them in this o
         coupler.exchange(state, solid)          # only for a deformable solid
         observer.observe(state)                 # only observers whose trigger fires
     fluid.finalize(state)
+    observer.outputs(state)                     # every observer, once: its run file records
     observer.close(state, result)               # every observer, once
 
 Units: every array in the State is scaled (lengths by a, pressures by gamma/a, times by
@@ -393,19 +394,41 @@ class Coupler(ABC):
 class Observer(ABC):  # noqa: B024 - every hook is optional
     """Sees the State when its trigger fires, and once more at the end.
 
-    Observers read the State and never write it.
+    Observers read the State and never write it. What an observer records reaches the run
+    file through :meth:`outputs` (docs/run-file.md, "Observers' records").
     """
 
     trigger: Trigger = Never()
 
+    #: Unit of each array :meth:`outputs` returns, by name (SI; ``"-"`` for a pure number),
+    #: stored as the dataset's ``units`` attribute (``""`` for a name not listed).
+    output_units: ClassVar[dict[str, str]] = {}
+
     def __init__(self, config: ModelConfig | None = None) -> None:
         self.config = config
+
+    @property
+    def output_name(self) -> str:
+        """Name of the run file group of :meth:`outputs`, ``/observers/<output_name>``: the
+        config's kind (the class name for an observer without a config). The Simulation
+        appends ``-2``, ``-3``, ... to a name that two observers of a run share."""
+        kind = getattr(self.config, "kind", None)
+        return str(kind) if kind else type(self).__name__
 
     def attach(self, run: Any) -> None:  # noqa: B027 - optional hook
         """Called once before the loop with the :class:`~porenet.simulation.Simulation`."""
 
     def observe(self, state: State) -> None:  # noqa: B027 - optional hook
         """Called after an advance whenever :attr:`trigger` fires."""
+
+    def outputs(self, state: State) -> dict[str, np.ndarray]:
+        """What the observer recorded, for the run file: ``{name: array}`` in SI units (the
+        observer converts: :meth:`attach` gives it ``run.scales``), any shape and dtype
+        numpy can store, units in :attr:`output_units`. Called once at the end, after
+        :meth:`FluidModel.finalize` (``state`` is the final State) and before :meth:`close`;
+        stored as the datasets ``/observers/<output_name>/<name>`` and read back as
+        ``RunData.observers[output_name][name]``. Default: nothing (no group)."""
+        return {}
 
     def close(self, state: State, result: Any) -> None:  # noqa: B027 - optional hook
         """Called once at the end with the :class:`~porenet.result.RunResult`."""

@@ -42,11 +42,35 @@ def _attr(value: Any) -> Any:
     return value
 
 
+def _valid_name(name: Any) -> bool:
+    """``name`` can name an HDF5 group or dataset of its own (no path separator)."""
+    return isinstance(name, str) and bool(name) and "/" not in name and name != "."
+
+
+def _check_observers(path: Path, data: RunData) -> None:
+    """Refuse observers' records the layout cannot hold: bad names, non-numeric arrays."""
+    for name, records in data.observers.items():
+        if not _valid_name(name):
+            raise RunFileLayoutError(f"{path}: observer name {name!r} is not a valid group name")
+        for key, values in records.items():
+            if not _valid_name(key):
+                raise RunFileLayoutError(
+                    f"{path}: observer {name!r} record name {key!r} is not a valid dataset name"
+                )
+            if np.asarray(values).dtype.kind not in "biuf":
+                raise RunFileLayoutError(
+                    f"{path}: observer {name!r} record {key!r} is not numbers or booleans "
+                    f"(dtype {np.asarray(values).dtype})"
+                )
+
+
 def _check_outputs(path: Path, data: RunData) -> None:
-    """Refuse time series and snapshots the layout cannot hold (before anything is written)."""
+    """Refuse time series, snapshots and observers' records the layout cannot hold (before
+    anything is written)."""
+    _check_observers(path, data)
     first: tuple[str, int] | None = None
     for name, values in data.timeseries.items():
-        if not isinstance(name, str) or not name or "/" in name or name == ".":
+        if not _valid_name(name):
             raise RunFileLayoutError(
                 f"{path}: time series name {name!r} is not a valid dataset name"
             )
@@ -83,8 +107,9 @@ def write_run(path: str | Path, data: RunData) -> Path:
     Raises
     ------
     RunFileLayoutError
-        If the time series (not 1-D, unequal lengths) or snapshots (not one value per pore)
-        do not fit the layout; nothing is written.
+        If the time series (not 1-D, unequal lengths), snapshots (not one value per pore) or
+        observers' records (a name with ``/``, not numbers) do not fit the layout; nothing is
+        written.
     OutputError
         If the file cannot be written (disk full, no permission, read-only file system, a
         directory that does not exist, ...): the message names the path and the reason.
@@ -170,6 +195,15 @@ def _write(f: Any, data: RunData) -> None:
                 g.create_dataset(key, data=values, compression="gzip")
             for key, values in snap.mechanics.items():
                 g.create_dataset(key, data=np.asarray(values), compression="gzip")
+    if data.observers:
+        groups = f.create_group("observers", track_order=True)
+        for name, records in data.observers.items():
+            g = groups.create_group(name, track_order=True)
+            units = data.observer_units.get(name, {})
+            for key, values in records.items():
+                array = np.asarray(values)
+                ds = g.create_dataset(key, data=array, compression="gzip" if array.ndim else None)
+                ds.attrs["units"] = units.get(key, "")
 
 
 def _is_porenet(f: Any) -> bool:
@@ -299,6 +333,12 @@ def _read(f: Any, path: Path) -> RunData:
     mechanics_series: dict[str, np.ndarray] = {}
     if "mechanics" in f:
         mechanics_series = {name: np.asarray(ds[()]) for name, ds in f["mechanics"].items()}
+    observers: dict[str, dict[str, np.ndarray]] = {}
+    observer_units: dict[str, dict[str, str]] = {}
+    if "observers" in f:
+        for name, g in f["observers"].items():
+            observers[name] = {key: np.asarray(ds[()]) for key, ds in g.items()}
+            observer_units[name] = {key: str(ds.attrs.get("units", "")) for key, ds in g.items()}
     snapshots: list[Snapshot] = []
     if "snapshots" in f:
         snaps = f["snapshots"]
@@ -340,6 +380,8 @@ def _read(f: Any, path: Path) -> RunData:
         snapshots=snapshots,
         mechanics_final=mechanics_final,
         mechanics_series=mechanics_series,
+        observers=observers,
+        observer_units=observer_units,
     )
 
 
