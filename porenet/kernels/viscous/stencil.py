@@ -67,7 +67,12 @@ def interior_run(
 ) -> Stencil:
     """The stencil of the pores ``[first, stop)`` of one row of the ``n x n`` grid (with both
     horizontal neighbours in the box): values ``y``, throat conductances ``conductance`` (by
-    canonical throat), outlet conductances ``outlet`` (by pore)."""
+    canonical throat), outlet conductances ``outlet`` (by pore).
+
+    Call it only from a helper compiled without reference counting (``@njit(helper=True)``,
+    as the sweeps' row functions are): its views carry no reference count of their own, and a
+    caller with reference counting releases their parents' memory when it drops them
+    (``tests/unit/kernels/viscous/test_stencil.py``)."""
     i = first // n
     count = stop - first
     vertical = n * (n - 1)
