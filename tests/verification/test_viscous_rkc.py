@@ -1,40 +1,28 @@
-"""The stabilised integrator of the viscous model (``integrator = "rkc"``): conservation, exact
-landings, agreement with a tight explicit run, the invasion-percolation limit, a cost that
-grows far slower than 1/Ca, hard corners, generic lattices, determinism.
+"""The stabilised integrator of the viscous model (``integrator = "rkc"``): what is specific to
+it, a cost that grows far slower than 1/Ca, generic lattices (the list sweep) and deformable
+media.
 
 IMEX Runge-Kutta-Chebyshev steps with the explicit integrator near landings
-(:mod:`porenet.kernels.viscous.rkc`). Scenes are small (n <= 30) so that the file runs in well
-under a minute; the helpers mirror ``test_viscous_implicit.py``.
+(:mod:`porenet.kernels.viscous.rkc`). The checks every integrator shares (conservation, exact
+landings, agreement with a tight explicit run, the invasion-percolation limit, hard corners,
+trapped clusters under pressure control, determinism) are in ``test_viscous_integrators.py``,
+for this integrator with the ids ``[rkc-...]``; it builds its scenes as ``scene`` below does,
+so ``cached_run`` shares the runs both files make. Scenes are small (n <= 40).
 """
 
 from __future__ import annotations
 
-import copy
 from pathlib import Path
 from typing import Literal
 
 import numpy as np
-import pytest
 
 from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
 from porenet.hooks import build_registry, hookimpl
 from porenet.simulation import Simulation
-from porenet.testing.runs import (
-    assert_tiny_lattice_outcome,
-    assert_viscous_run_sane,
-    cached_run,
-    frontier_menisci,
-    pattern_overlap,
-    simulate,
-    tiny_lattice_cases,
-)
+from porenet.testing.runs import cached_run
 
-GAMMA = 0.07  # N/m
-MU = 1e-3  # Pa s
 A = 1e-7  # m
-P_SCALE = GAMMA / A  # gamma / a (Pa)
-T_SCALE = MU * A / GAMMA  # mu a / gamma (s)
-ELL0 = 2.0  # length of a new meniscus (units of a)
 
 
 def scene(n=20, seed=1, disorder=0.3, at="breakthrough", integrator="rkc", **fluid):
@@ -47,120 +35,7 @@ def scene(n=20, seed=1, disorder=0.3, at="breakthrough", integrator="rkc", **flu
     }
 
 
-# -- 1. volume balances ---------------------------------------------------------------------------
-
-BALANCE_CASES = {
-    "rate-pore": {"capillary_number": 1e-3},
-    "rate-drained": {"capillary_number": 1e-3, "reservoir": "drained"},
-    "rate-low-ca": {"capillary_number": 1e-5},
-    "pressure": {"control": "pressure", "injection_pressure": 2.2 * P_SCALE},
-    "ramp": {"control": "ramp", "ramp_rate": 1e-4 * P_SCALE / T_SCALE},
-    "latching-rate": {"capillary_number": 1e-4, "meniscus": "latching"},
-}
-
-
-@pytest.mark.parametrize("case", list(BALANCE_CASES))
-def test_volume_balances_close_to_round_off(case):
-    """injected = drained + stored in the reservoir, drained = stored + outflow + released, at
-    every drainage event. An RKC step is a linear combination of stage fluxes and the volume
-    totals follow the same recursion as the pressures, so the balances close to round-off
-    (measured 5e-14 to 6e-13 on these runs); 1e-11 catches a lost term (one step is >= 1e-4 of
-    the total) and every run takes RKC steps."""
-    sim, result = cached_run(scene(**BALANCE_CASES[case]))
-    s = result.summary
-    assert s["integrator"] == "rkc" and s["rkc_steps"] > 0
-    invader, defender = sim.fluid.balance_errors()
-    assert invader < 1e-11 and defender < 1e-11
-    assert s["volume_balance_error"] < 1e-11
-    ts = sim.fluid.timeseries()
-    for name in ("time", "injected", "drained", "outflow", "released", "n_drained"):
-        assert np.all(np.diff(ts[name]) >= 0), name
-    v = sim.fluid.volumes()
-    cfg = sim.fluid.config
-    if cfg.control == "rate":  # the pump delivers exactly Q t, Q = Ca 4 n
-        np.testing.assert_allclose(v["injected"], cfg.capillary_number * 80 * v["time"], rtol=1e-12)
-    elif cfg.control == "pressure":
-        assert v["stored_reservoir"] == 0.0
-        np.testing.assert_allclose(v["injected"], v["drained"], rtol=1e-12)
-    else:
-        np.testing.assert_allclose(
-            v["invading_pressure"], cfg.ramp_rate * T_SCALE / P_SCALE * v["time"], rtol=1e-9
-        )
-
-
-# -- 2. menisci land exactly ----------------------------------------------------------------------
-
-
-@pytest.mark.parametrize("ca", [1e-3, 1e-5])
-def test_menisci_land_exactly_and_never_overshoot(ca):
-    """Drain one pore per call of advance(): after every drainage event no meniscus is below 0,
-    each drained pore's entry meniscus is exactly 0 (landings are the explicit integrator's,
-    located on l = 0), and the volume the menisci swept is the drained volume."""
-    sim = Simulation.from_scene(scene(capillary_number=ca))
-    state = sim.state
-    sim.fluid.setup(state)
-    calls = 0
-    while not state.breakthrough:
-        sim.fluid.advance(state, 1)
-        calls += 1
-        assert np.all(state.meniscus_length >= 0.0), calls
-        assert calls < 2000
-    ell = state.meniscus_length
-    rec = state.record
-    throat = rec.throat[: rec.size]
-    via = throat[throat >= 0]
-    assert np.all(ell[via] == 0.0)
-    c_area, _ = sim.lattice.throat_factors
-    area = c_area * (state.apertures / sim.lattice.mean_aperture) ** 2
-    swept = float(np.sum(area * (ELL0 - ell)))
-    np.testing.assert_allclose(swept, sim.fluid.volumes()["drained"], rtol=1e-10)
-
-
-# -- 3. the same dynamics as a tight explicit run -------------------------------------------------
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_agrees_with_tight_explicit_run(seed):
-    """n = 20, Ca = 1e-4, lambda = 0.3: RKC at its default tolerance against the explicit
-    integrator at safety_factor 0.2 and pressure_step 0.01 (the reference of docs/accuracy.md).
-    Breakthrough times within 1 % and the same drained set, but for a near-tie reordered."""
-    rkc = cached_run(scene(seed=seed, capillary_number=1e-4))[1]
-    explicit = cached_run(
-        scene(
-            seed=seed,
-            capillary_number=1e-4,
-            integrator="explicit",
-            safety_factor=0.2,
-            pressure_step=0.01,
-        )
-    )[1]
-    t_r = rkc.data.invasion_time[-1]
-    t_e = explicit.data.invasion_time[-1]
-    overlap = pattern_overlap(rkc.data.drained, explicit.data.drained)
-    print(f"seed {seed}: breakthrough time {t_r / t_e - 1:+.4%}, Jaccard {overlap:.3f}")
-    assert abs(t_r / t_e - 1) < 0.01
-    assert overlap >= 0.9
-    assert rkc.summary["rkc_steps"] > 0
-    ca_r = rkc.summary["capillary_number_measured"]
-    ca_e = explicit.summary["capillary_number_measured"]
-    assert abs(ca_r / ca_e - 1) < 0.01
-
-
-# -- 4. Ca -> 0 is invasion percolation with trapping ---------------------------------------------
-
-
-def test_small_ca_is_invasion_percolation_with_trapping():
-    """Ca = 1e-6 on 20 x 20 (lambda = 0.3): the drained set at breakthrough is invasion
-    percolation's with trapping, pore for pore, for every seed."""
-    for s in (0, 1, 2, 3):
-        dyn = cached_run(scene(seed=s, capillary_number=1e-6))[1].data
-        ip_scene = scene(seed=s)
-        ip_scene["fluid"] = {"kind": "invasion-percolation", "trapping": True}
-        ip = cached_run(ip_scene)[1].data
-        np.testing.assert_array_equal(dyn.drained, ip.drained, err_msg=f"seed {s}")
-
-
-# -- 5. the cost grows far slower than 1/Ca -------------------------------------------------------
+# -- 1. the cost grows far slower than 1/Ca -------------------------------------------------------
 
 
 def test_sweeps_per_drained_pore_grow_far_slower_than_one_over_ca():
@@ -177,49 +52,7 @@ def test_sweeps_per_drained_pore_grow_far_slower_than_one_over_ca():
     assert ratio < 20
 
 
-# -- 6. hard cases stay finite and finish ---------------------------------------------------------
-
-HARD_CASES = {
-    "lambda=0.01": (scene(n=20, disorder=0.01, capillary_number=1e-4), "breakthrough"),
-    "lambda=0.95": (scene(n=20, disorder=0.95, capillary_number=1e-4), "breakthrough"),
-    "Ca=1": (scene(n=20, capillary_number=1.0), "breakthrough"),
-    "Ca=1e-7": (scene(n=20, capillary_number=1e-7), "breakthrough"),
-    **tiny_lattice_cases(scene, 1e-4, 3 * P_SCALE),
-}
-
-
-@pytest.mark.parametrize("case", list(HARD_CASES))
-def test_hard_cases_stay_finite_and_finish(case):
-    sc, reason = copy.deepcopy(HARD_CASES[case])
-    sim, result = simulate(sc)
-    s = result.summary
-    assert s["stop_reason"] == reason
-    assert_viscous_run_sane(sim, result)
-    # round-off accumulates over the sweeps (as for the explicit integrator, ~1e-16 each)
-    sweeps = s["stage_sweeps"] + s["time_steps"]
-    assert s["volume_balance_error"] < max(1e-15 * sweeps, 1e-12)
-    if sc["lattice"]["n"] == 3:
-        assert_tiny_lattice_outcome(result, reason)
-
-
-def test_trapped_clusters_arrest_under_pressure_control():
-    """Fixed p_inv = 2.4 gamma/a on 20 x 20 until nothing moves: trapped defending clusters
-    survive, held by their own raised pressure, and every meniscus is at or below its
-    threshold (to the step's accuracy)."""
-    p_inv = 2.4 * P_SCALE
-    sc = scene(n=20, seed=0, at="complete", control="pressure", injection_pressure=p_inv)
-    _, result = simulate(sc)
-    data = result.data
-    assert result.summary["stop_reason"] in ("stationary", "complete")
-    p, trapped, drained = data.pressure, data.trapped, data.drained
-    assert trapped.sum() > 0 and not (trapped & drained).any()
-    assert np.all(p[trapped] > 0) and np.all(p[trapped] < p_inv)
-    _, _, excess = frontier_menisci(data, p_inv, P_SCALE)
-    assert np.all(excess <= 1e-6)
-    assert result.summary["volume_balance_error"] < 1e-11
-
-
-# -- 7. generic lattices (no canonical grid) ------------------------------------------------------
+# -- 2. generic lattices (no canonical grid) ------------------------------------------------------
 
 
 class ListedConfig(SquareLatticeConfig):
@@ -260,20 +93,7 @@ def test_generic_lattice_runs_and_matches_the_grid():
     assert listed[1].summary["volume_balance_error"] < 1e-11
 
 
-# -- 8. determinism -------------------------------------------------------------------------------
-
-
-def test_same_scene_same_run():
-    sc = scene(n=20, seed=3, capillary_number=1e-4)
-    a = simulate(sc)[1]
-    b = simulate(sc)[1]
-    np.testing.assert_array_equal(a.data.order, b.data.order)
-    np.testing.assert_array_equal(a.data.invasion_time, b.data.invasion_time)
-    np.testing.assert_array_equal(a.data.pressure, b.data.pressure)
-    assert a.summary["time_steps"] == b.summary["time_steps"]
-
-
-# -- 9. deformable media --------------------------------------------------------------------------
+# -- 3. deformable media --------------------------------------------------------------------------
 
 
 def test_deformable_medium_fractures_as_with_the_explicit_integrator():
