@@ -108,10 +108,12 @@ from porenet.kernels.viscous.state import (
     Front,
     Injection,
     Network,
+    Pump,
     Records,
     Status,
     Stops,
     Total,
+    book_step,
 )
 
 
@@ -375,17 +377,8 @@ def implicit_advance(
         new_ell = ell[fthr] - q * dt / area[fthr]
         new_ell[landing] = 0.0
         ell[fthr[moving]] = new_ell[moving]
-        acc[Total.DRAINED] += qsum * dt
-        acc[Total.STORED_DEFENDER] += stored
-        acc[Total.OUTFLOW] += out * dt
-        if control == Control.RATE:
-            acc[Total.INJECTED] += q_rate * dt
-        else:
-            acc[Total.INJECTED] += qsum * dt + cap * (pinv_new - pinv)
-        acc[Total.STORED_RESERVOIR] += cap * (pinv_new - pinv)
-        acc[Total.INVADING_PRESSURE] = pinv_new
-        acc[Total.TIME] = t + dt
-        cnt[Count.STEPS] += 1
+        pump = Pump(control, pinv, q_rate, cap, ramp_rate)
+        book_step(flow, pump, dt, qsum * dt, stored, out * dt, pinv_new)
         ctrl[Slot.LAST_RATE] = last_rate
         if not (math.isfinite(pinv_new) and math.isfinite(stored)):
             cnt[Count.WHERE] = -1

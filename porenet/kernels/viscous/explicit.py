@@ -77,6 +77,7 @@ from porenet.kernels.viscous.state import (
     Stops,
     Sweep,
     Total,
+    book_step,
 )
 from porenet.kernels.viscous.window import (
     Cut,
@@ -362,17 +363,7 @@ def explicit_advance(
         _unlink(n_on, on_p, head)
         if not windowed:
             spread(field, counters, drained, p, floor)
-        totals[Total.DRAINED] += qsum * dt
-        totals[Total.STORED_DEFENDER] += stored
-        totals[Total.OUTFLOW] += out * dt
-        if control == Control.RATE:
-            totals[Total.INJECTED] += q_rate * dt
-        else:
-            totals[Total.INJECTED] += qsum * dt + capacity_now * (pnew - pinv)
-        totals[Total.STORED_RESERVOIR] += capacity_now * (pnew - pinv)
-        totals[Total.INVADING_PRESSURE] = pnew
-        totals[Total.TIME] = t + dt
-        counters[Count.STEPS] += 1
+        book_step(flow, pump, dt, qsum * dt, stored, out * dt, pnew)
         if not (np.isfinite(pnew) and np.isfinite(stored)):
             counters[Count.WHERE] = -1
             return Status.NON_FINITE

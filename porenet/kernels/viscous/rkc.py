@@ -96,6 +96,7 @@ from porenet.kernels.viscous.state import (
     Stops,
     Sweep,
     Total,
+    book_step,
 )
 from porenet.kernels.viscous.window import (
     Cut,
@@ -496,17 +497,7 @@ def rkc_advance(
             if moved[s]:
                 ell[on_t[s]] = lst[k, s]
         _unlist(n_on, menisci0, cand)
-        totals[Total.DRAINED] += ast[k, 0]
-        totals[Total.STORED_DEFENDER] += stored
-        totals[Total.OUTFLOW] += ast[k, 1]
-        if control == Control.RATE:
-            totals[Total.INJECTED] += q_rate * h
-        else:
-            totals[Total.INJECTED] += ast[k, 0] + capacity_now * (ps - pinv)
-        totals[Total.STORED_RESERVOIR] += capacity_now * (ps - pinv)
-        totals[Total.INVADING_PRESSURE] = ps
-        totals[Total.TIME] = t + h
-        counters[Count.STEPS] += 1
+        book_step(flow, pump0, h, ast[k, 0], stored, ast[k, 1], ps)
         ctrl[Slot.RKC_STEPS] += 1
         if grid_n == 0:
             for _r in range(m):  # (the active pores grow with each spread)

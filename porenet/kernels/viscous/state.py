@@ -38,6 +38,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from porenet.kernels.jit import njit
+
 
 class Total(IntEnum):
     """Slots of :attr:`Flow.totals`, the running totals (float64, scaled units). They close
@@ -459,6 +461,38 @@ class Sweep(NamedTuple):
     inverse_volume: np.ndarray
     scratch: np.ndarray
     bounds: np.ndarray
+
+
+@njit(helper=True)
+def book_step(
+    flow: Flow,
+    pump: Pump,
+    dt: float,
+    drained: float,
+    stored: float,
+    outflow: float,
+    pressure_after: float,
+) -> None:
+    """Book one accepted step of length ``dt`` in ``flow``'s totals and counters, the same way
+    for every integrator: the volume the menisci displaced (``drained``), the change of the
+    defender's stored volume (``stored``), the volume out of the outlet (``outflow``), what the
+    pump delivered and the reservoir stored (``pump`` holds the injection at the step's start,
+    ``pressure_after`` the invading pressure at its end), the invading pressure and the time
+    after the step, and one step more. These are the terms of the volume balances of
+    :class:`Total` (docs/model.md section 4)."""
+    totals = flow.totals
+    reservoir = pump.capacity * (pressure_after - pump.pressure)
+    totals[Total.DRAINED] += drained
+    totals[Total.STORED_DEFENDER] += stored
+    totals[Total.OUTFLOW] += outflow
+    if pump.control == Control.RATE:
+        totals[Total.INJECTED] += pump.rate * dt
+    else:
+        totals[Total.INJECTED] += drained + reservoir
+    totals[Total.STORED_RESERVOIR] += reservoir
+    totals[Total.INVADING_PRESSURE] = pressure_after
+    totals[Total.TIME] += dt
+    flow.counters[Count.STEPS] += 1
 
 
 def new_flow(n_pores: int, n_throats: int, new_meniscus: float, invading_pressure: float) -> Flow:
