@@ -81,6 +81,17 @@ class Simulation:
                 )
         except ValueError as exc:
             raise ConfigError(f"lattice: {exc}") from exc
+        try:  # the injection site must name pores of this lattice
+            inlets = self.lattice.inlet_pores(scene.injection.at)
+            outlet = self.lattice.outlet_mask(scene.injection.at)
+        except ValueError as exc:
+            raise ConfigError(f"injection.at: {exc}") from exc
+        if inlets.size == 0 or not np.any(outlet):
+            raise ConfigError(
+                f"injection.at = {scene.injection.at!r}: this site has no "
+                f"{'pore' if inlets.size == 0 else 'outlet'} on this lattice "
+                '(docs/lattices.md, "Injection sites and outlets")'
+            )
         self.scales = Scales.from_physics(
             scene.lattice.pore_size,
             scene.fluid.interfacial_tension,

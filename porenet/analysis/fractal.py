@@ -39,6 +39,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from porenet.core.sites import site_geometry
+
 if TYPE_CHECKING:  # pragma: no cover
     from porenet.result import RunData
 
@@ -464,7 +466,11 @@ def pattern_dimension(data: RunData, method: str = "mass-radius") -> FractalFit:
             f"the pattern has {np.count_nonzero(drained)} drained pore(s): D_f is not measurable"
         )
     scene = data.scene or {}
-    injection = str((scene.get("injection") or {}).get("at", "centre"))
+    injection = (scene.get("injection") or {}).get("at", "centre")
+    # the bias tables know the paper's two geometries: the centre and a face ("left-edge")
+    injection = {"centre": "centre", "face": "left-edge"}.get(
+        site_geometry(injection), str(injection)
+    )
     trapping = bool((scene.get("fluid") or {}).get("trapping", True))
     spacing = 2.0 * float(data.pore_size)
     coords = np.asarray(data.pore_coords, dtype=np.float64)

@@ -12,7 +12,7 @@ from porenet.builtin.classifiers import NoClassifierConfig
 from porenet.builtin.classifiers.config import RulesClassifierConfig, TheoryClassifierConfig
 from porenet.builtin.couplers.config import PressureApertureConfig
 from porenet.builtin.fluids.config import InvasionPercolationConfig, ViscousConfig
-from porenet.builtin.lattices.config import SquareLatticeConfig
+from porenet.builtin.lattices.config import CubicLatticeConfig, SquareLatticeConfig
 from porenet.builtin.observers.config import ProgressConfig, SnapshotsConfig
 from porenet.builtin.solids.config import HertzConfig
 from porenet.builtin.solids.rigid import RigidConfig
@@ -22,6 +22,7 @@ from porenet.hooks import Register, hookimpl
 @hookimpl
 def porenet_register_lattices(register: Register) -> None:
     register(SquareLatticeConfig, "porenet.builtin.lattices.square:SquareLattice")
+    register(CubicLatticeConfig, "porenet.builtin.lattices.cubic:CubicLattice")
 
 
 @hookimpl

@@ -227,6 +227,24 @@ def load_scene(
         raise ConfigError(f"a scene is a TOML path, a dict or a SceneConfig, not {type(scene)!r}")
     data = apply_overrides(data, overrides)
     try:
-        return model.model_validate(data, context={"base_dir": base_dir})
+        validated = model.model_validate(data, context={"base_dir": base_dir})
     except ValidationError as exc:
         raise format_validation_error(exc, source, data, model, registry) from None
+    _check_site(validated, source)
+    return validated
+
+
+def _check_site(scene: SceneBase, source: str) -> None:
+    """Refuse an injection site the lattice's config knows it lacks (``site_names``: its
+    sites, or None when only the built lattice knows them, as an imported network's labels;
+    then the run checks it)."""
+    names = getattr(scene.lattice, "site_names", None)
+    at = scene.injection.at
+    known = names() if callable(names) else None
+    if known is None or not isinstance(at, str) or at in known:
+        return
+    raise ConfigError(
+        f"invalid scene\n  {source}: injection.at = {at!r}: not a site of the "
+        f"{scene.lattice.kind!r} lattice; expected one of {', '.join(known)}, or a list of pore "
+        'indices (docs/lattices.md, "Injection sites and outlets")'
+    )

@@ -10,10 +10,11 @@ from __future__ import annotations
 import functools
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import Field, create_model, model_validator
+from pydantic import Field, create_model, field_validator, model_validator
 
 from porenet.config.base import CheckedModel
 from porenet.core.registry import Registry
+from porenet.core.sites import site_geometry
 
 #: Kind used when a section omits ``kind``.
 DEFAULT_KINDS: dict[str, str] = {
@@ -30,14 +31,36 @@ DEFAULT_SECTIONS: tuple[str, ...] = ("solid", "classifier")
 class InjectionConfig(CheckedModel):
     """Where the invading fluid enters.
 
-    ``centre``: the single centre pore (i, j) = (n//2, n//2), with the outlet along the whole
-    outer edge (the paper's geometry). ``left-edge``: every pore of the left column, with the
-    outlet along the right column and closed top and bottom (linear geometry).
+    ``centre``: the pore nearest the centre (on the square lattice (i, j) = (n//2, n//2)), with
+    the outlet along the whole outer boundary (the paper's geometry). A face of the lattice's
+    bounding box, ``x-``, ``x+``, ``y-``, ``y+`` (and ``z-``, ``z+`` in 3-D): every pore of
+    that face, with the outlet at the opposite face and the other faces closed (linear
+    geometry); ``left-edge`` is ``x-``. A label of the lattice (an imported network's
+    ``pore.inlet``, docs/lattices.md) or a list of pore indices: those pores, with the outlet
+    the lattice's boundary (or its ``outlet`` setting).
     """
 
-    at: Literal["centre", "left-edge"] = Field(
-        "centre", description="Injection site: 'centre' (paper) or 'left-edge' (linear)."
+    at: str | list[int] = Field(
+        "centre",
+        description="Injection site: 'centre' (paper), a face ('x-', 'x+', 'y-', 'y+', 'z-', "
+        "'z+'; 'left-edge' = 'x-'), a label of the lattice, or a list of pore indices.",
     )
+
+    @field_validator("at")
+    @classmethod
+    def _site(cls, value: str | list[int]) -> str | list[int]:
+        if isinstance(value, str):
+            if not value.strip():
+                raise ValueError("must name a site: 'centre', a face, a label or pore indices")
+            return value
+        if not value or min(value) < 0:
+            raise ValueError("a list of pores must be non-empty and hold indices >= 0")
+        return value
+
+    @property
+    def geometry(self) -> str:
+        """:func:`site_geometry` of :attr:`at`."""
+        return site_geometry(self.at)
 
 
 class StopConfig(CheckedModel):

@@ -59,6 +59,7 @@ from typing import Any
 
 from porenet.analysis.numbers import fracturing_number
 from porenet.builtin.fluids.config import auto_integrator
+from porenet.core.sites import site_geometry
 
 #: Invasion percolation, centre injection, ensemble mean drained fraction at breakthrough
 #: ``a n^-b`` with trapping (n = 25-800, 12-32 seeds each; docs/cost.md).
@@ -242,7 +243,7 @@ def format_seconds(value: float | None) -> str:
 
 def ip_drained_fraction(n: int, *, at: str, trapping: bool, injection: str = "centre") -> float:
     """Expected fraction of an ``n x n`` lattice invasion percolation drains at the stop."""
-    edge = injection == "left-edge"
+    edge = site_geometry(injection) == "face"
     if at == "complete":
         if not trapping:
             return 1.0
@@ -338,7 +339,7 @@ def pump_rate(scene: Any) -> float | None:
     if getattr(fluid, "control", "rate") != "rate":
         return None
     n = int(lat.n)
-    cross_section = n if scene.injection.at == "left-edge" else 4 * n
+    cross_section = n if site_geometry(scene.injection.at) == "face" else 4 * n
     ca = getattr(fluid, "capillary_number", None)
     if ca is not None:
         return float(ca) * cross_section
@@ -417,7 +418,7 @@ def estimate_cost(scene: Any) -> CostEstimate:
     trapping = bool(getattr(fluid, "trapping", True))
     fraction = ip_drained_fraction(n, at=stop.at, trapping=trapping, injection=at)
     q = pump_rate(scene) if fluid.kind == "viscous" else None
-    ca = None if q is None else q / (n if at == "left-edge" else 4 * n)
+    ca = None if q is None else q / (n if site_geometry(at) == "face" else 4 * n)
     if ca is not None and stop.at == "breakthrough":
         fraction = fast_injection_fraction(n, ca, fraction)
     expected = pores * fraction

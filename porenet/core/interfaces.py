@@ -14,6 +14,9 @@ other directly: the :class:`~porenet.simulation.Simulation` calls them in this o
     observer.outputs(state)                     # every observer, once: its run file records
     observer.close(state, result)               # every observer, once
 
+Length (over the ~500 lines of docs/architecture.md's rule): by design: the five interfaces
+a plugin implements, with every method's contract, in one place to read.
+
 Units: every array in the State is scaled (lengths by a, pressures by gamma/a, times by
 mu a/gamma, see :mod:`porenet.core.units`); configs are SI; conversions happen at the edges.
 """
@@ -27,6 +30,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from porenet.core.sites import FACES, OPPOSITE_FACE, face_of
 from porenet.core.state import State
 from porenet.core.triggers import Never, Trigger
 from porenet.core.units import Scales
@@ -67,10 +71,14 @@ class Lattice(ABC):
 
     A lattice is built once from its config and the run's generator and is read-only afterwards.
     Pores are numbered ``0 .. n_pores-1``, throats ``0 .. n_throats-1`` in the lattice's canonical
-    order; lengths are in units of the pore size ``a``.
+    order; lengths are in units of the pore size ``a``, in 2 or 3 dimensions.
 
-    Subclasses implement the abstract properties; the particle/spring description is needed only
-    by deformable solids and may raise :class:`NotImplementedError` otherwise.
+    The contract for any network (docs/lattices.md, "The lattice contract"): pore centres
+    ``(n_pores, d)``; per throat its two pores, aperture ``r``, length, area and permeability
+    factors and entry pressure; per pore its volume; named pore sets (:attr:`labels`) and the
+    injection sites and outlet they define (:meth:`sites`). The square lattice's values are one
+    case of it. Subclasses implement the abstract properties; the particle/spring description
+    is needed only by deformable solids and may raise :class:`NotImplementedError` otherwise.
     """
 
     def __init__(self, config: ModelConfig, rng: np.random.Generator) -> None:
@@ -90,7 +98,12 @@ class Lattice(ABC):
     @property
     @abstractmethod
     def pore_coords(self) -> np.ndarray:
-        """(n_pores, 2) float: pore centre (x, y) in units of ``a``."""
+        """(n_pores, d) float, d = 2 or 3: pore centres (x, y[, z]) in units of ``a``."""
+
+    @property
+    def dimension(self) -> int:
+        """2 or 3: the number of columns of :attr:`pore_coords`."""
+        return int(np.shape(self.pore_coords)[1])
 
     @property
     @abstractmethod
@@ -126,10 +139,32 @@ class Lattice(ABC):
         return False
 
     @property
-    def throat_factors(self) -> tuple[float, float]:
+    def throat_factors(self) -> tuple[float | np.ndarray, float | np.ndarray]:
         """``(c_A, c_k)``: throat area ``A = c_A r**2`` and permeability ``k = c_k r**2``
-        (docs/model.md section 1; default 1, 1)."""
+        (docs/model.md section 1; default 1, 1). Each is one number for every throat or an
+        ``(n_throats,)`` array (a network whose throats have different cross-sections)."""
         return 1.0, 1.0
+
+    @property
+    def throat_lengths(self) -> np.ndarray:
+        """(n_throats,) float: the length ``l`` of each throat in units of ``a``, over which
+        it conducts (``g = A k / l``) and a meniscus crosses it. Default ``2`` (the square
+        lattice's node spacing ``2a``, docs/model.md section 1)."""
+        return np.full(self.n_throats, 2.0)
+
+    def entry_pressures(
+        self, apertures: np.ndarray, throats: np.ndarray | None = None
+    ) -> np.ndarray:
+        """Capillary entry pressure of each throat in units of ``gamma / a``, from apertures
+        ``r / a`` (of the throats ``throats``, default all): ``2 / r`` (a cylinder, zero
+        contact angle; docs/model.md section 1). A lattice with shaped throats overrides it."""
+        return 2.0 / np.asarray(apertures, dtype=np.float64)
+
+    @property
+    def labels(self) -> dict[str, np.ndarray]:
+        """Named sets of pores, ``name -> (n_pores,) bool`` (for example an imported network's
+        ``pore.inlet``), usable as an injection site or outlet (:meth:`sites`). Default none."""
+        return {}
 
     @property
     def mean_aperture(self) -> float:
@@ -194,33 +229,50 @@ class Lattice(ABC):
 
         return csr_adjacency(self.throat_pores, self.n_pores)
 
-    def inlet_pores(self, at: str) -> np.ndarray:
-        """Pores the invading fluid occupies at the start.
+    def sites(self, spec: str | list[int] | tuple[int, ...]) -> np.ndarray:
+        """(n_pores,) bool: the pores a site names. ``spec`` is ``"centre"`` (the pore nearest
+        the centroid of the pores), a face of the bounding box (``"x-"``, ``"x+"``, ``"y-"``,
+        ``"y+"``, ``"z-"``, ``"z+"``; ``"left-edge"`` is ``"x-"``), a label of
+        :attr:`labels`, or a list of pore indices. Raises ValueError naming what is known."""
+        mask = np.zeros(self.n_pores, dtype=bool)
+        if isinstance(spec, (list, tuple)):
+            index = np.asarray(spec, dtype=np.int64)
+            if index.size == 0 or index.min() < 0 or index.max() >= self.n_pores:
+                raise ValueError(f"pore indices must be in [0, {self.n_pores}): got {list(spec)}")
+            mask[index] = True
+            return mask
+        if spec == "centre":
+            dx = np.asarray(self.pore_coords, dtype=np.float64)
+            dx = dx - dx.mean(axis=0)
+            d = np.hypot(dx[:, 0], dx[:, 1]) if dx.shape[1] == 2 else np.linalg.norm(dx, axis=1)
+            mask[int(np.argmin(d))] = True
+            return mask
+        face = face_of(spec)
+        if face is not None:
+            axis, side = FACES[face]
+            if axis >= self.dimension:
+                raise ValueError(f"face {spec!r} needs a 3-D lattice; this one is 2-D")
+            x = np.asarray(self.pore_coords, dtype=np.float64)[:, axis]
+            return np.isclose(x, x.max() if side > 0 else x.min())
+        if spec in self.labels:
+            return np.asarray(self.labels[spec], dtype=bool).copy()
+        known = ", ".join(["centre", *FACES, *sorted(self.labels)])
+        raise ValueError(f"unknown site {spec!r}: expected one of {known}, or a list of pores")
 
-        ``"centre"``: the pore nearest the centroid; ``"left-edge"``: the pores with the
-        smallest x coordinate.
-        """
-        xy = self.pore_coords
-        if at == "centre":
-            c = xy.mean(axis=0)
-            d = np.hypot(xy[:, 0] - c[0], xy[:, 1] - c[1])
-            return np.array([int(np.argmin(d))], dtype=np.int64)
-        if at == "left-edge":
-            return np.flatnonzero(np.isclose(xy[:, 0], xy[:, 0].min())).astype(np.int64)
-        raise ValueError(f"unknown injection site {at!r}")
+    def inlet_pores(self, at: str | list[int]) -> np.ndarray:
+        """Pores the invading fluid occupies at the start (:meth:`sites`), sorted."""
+        return np.flatnonzero(self.sites(at)).astype(np.int64)
 
-    def outlet_mask(self, at: str) -> np.ndarray:
+    def outlet_mask(self, at: str | list[int]) -> np.ndarray:
         """(n_pores,) bool: pores connected to the outlet reservoir for an injection site.
 
-        Injection at the centre drains through the whole outer edge; injection at the left edge
-        drains through the right edge (top and bottom are closed).
+        Injection at a face drains through the opposite face (the other faces are closed);
+        anywhere else (the centre, a label, a list of pores) through :attr:`boundary_pores`.
         """
-        if at == "centre":
-            return np.asarray(self.boundary_pores, dtype=bool)
-        if at == "left-edge":
-            x = self.pore_coords[:, 0]
-            return np.isclose(x, x.max())
-        raise ValueError(f"unknown injection site {at!r}")
+        face = face_of(at)
+        if face is not None:
+            return self.sites(OPPOSITE_FACE[face])
+        return np.asarray(self.boundary_pores, dtype=bool)
 
 
 class FluidModel(ABC):

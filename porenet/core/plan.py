@@ -19,6 +19,7 @@ from porenet.analysis.numbers import (
 )
 from porenet.core.cost import CostEstimate, estimate_cost
 from porenet.core.registry import Registry
+from porenet.core.sites import site_geometry
 
 #: Keys of :attr:`Plan.numbers` that other code reads.
 CA_STAR = "Ca* = Ca (L/a) / [lambda/(1-lambda^2)]"
@@ -243,7 +244,7 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     viscosity = getattr(scene.fluid, "viscosity", None)
     if ca is None and None not in (rate, viscosity, gamma, pore_size, n):
         # Ca = mu Q / (gamma A_b), A_b = 4 L a (centre) or L a (left edge)
-        sides = 1 if getattr(scene.injection, "at", "centre") == "left-edge" else 4
+        sides = 1 if site_geometry(getattr(scene.injection, "at", "centre")) == "face" else 4
         ca = float(rate) * float(viscosity) / (float(gamma) * sides * int(n) * pore_size**2)
     if ca is not None:
         numbers["Ca"] = float(ca)

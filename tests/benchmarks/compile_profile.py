@@ -6,9 +6,9 @@
 Runs ``SCENE`` (default: Fig. 1b's at n = 50, as ``bench_compile.py``'s ``viscous-50``) once,
 with no classifier, and prints the total compile time and each compiled function's own
 compile time (without the callees compiled inside it) as numba's ``numba:compile`` events
-report it, the largest first, beside its time with those callees. To compare two revisions, run it in each tree with
-``PYTHONPATH=TREE`` and an empty cache each time (docs/performance.md, "Issue 21's
-refactoring"). Not a test: no assertions.
+report it, the largest first, beside its time with those callees. To compare two revisions,
+run it in each tree with ``PYTHONPATH=TREE`` and an empty cache each time
+(docs/performance.md, "Issue 21's refactoring"). Not a test: no assertions.
 """
 
 from __future__ import annotations

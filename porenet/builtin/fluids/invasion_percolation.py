@@ -33,7 +33,7 @@ class InvasionPercolation(FluidModel):
         stop = self.context.stop
         self._indptr, self._neighbours, _ = lat.adjacency
         self._outlet = lat.outlet_mask(at)
-        self._entry = ip.entry_pressures(state.apertures)
+        self._entry = np.asarray(lat.entry_pressures(state.apertures), dtype=np.float64)
         self._online: Any = None  # porenet.kernels.invasion.online.OnlineState
         if self.context.deformable:
             self._setup_online(state)
@@ -85,7 +85,7 @@ class InvasionPercolation(FluidModel):
         if self._online is None:  # pragma: no cover - the Simulation plans deformable runs
             raise NotImplementedError("invasion percolation was set up for a rigid medium")
         front = online_frontier(self._online)
-        self._entry[front] = 2.0 / state.apertures[front]
+        self._entry[front] = self.lattice.entry_pressures(state.apertures[front], front)
 
     def _advance_online(self, state: State, max_events: int) -> int:
         from porenet.kernels.invasion.online import online_step

@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 
 from porenet.builtin.fluids.config import ViscousConfig, auto_integrator
-from porenet.core.errors import NumericalError
-from porenet.core.interfaces import FluidModel
+from porenet.core.errors import ConfigError, NumericalError
+from porenet.core.interfaces import FluidModel, Lattice
 from porenet.core.state import State
 from porenet.kernels.jit import PARALLEL_MIN, threads
 from porenet.kernels.viscous.state import (
@@ -44,6 +44,23 @@ from porenet.threads import CallPace
 
 #: Length of a new meniscus: the distance between two pore centres, 2a.
 MENISCUS_LENGTH = 2.0
+
+
+def throat_stretch(lattice: Lattice) -> np.ndarray | None:
+    """``l / MENISCUS_LENGTH`` per throat, or None when every throat has the square lattice's
+    length ``2a``.
+
+    The kernels move every meniscus over the same reference length ``MENISCUS_LENGTH`` (2a).
+    A throat of length ``l`` is mapped onto it exactly: its area is multiplied by
+    ``l / 2a`` (so that it holds its volume ``A l``) and its conductance times length by
+    ``2a / l`` (so that it conducts ``A k / l``); the meniscus position the kernels report is
+    then ``2a`` times the fraction of the throat still ahead (docs/lattices.md, "Throat
+    lengths"). A lattice of ``2a`` throats skips the scaling (which would change no bit)."""
+    lengths = np.asarray(lattice.throat_lengths, dtype=np.float64)
+    if np.all(lengths == MENISCUS_LENGTH):
+        return None
+    return lengths / MENISCUS_LENGTH
+
 
 #: Drainage events between the points where a macro step of local time steps ends (counted
 #: from the first event after the inlets, so the same in every run of a scene: where the
@@ -173,13 +190,18 @@ class ViscousDrainage(FluidModel):
         r = np.asarray(state.apertures, dtype=np.float64)
         area = c_area * r**2
         g_num = area * c_perm * r**2  # A k: meniscus conductance times length
+        stretch = throat_stretch(lat)
+        if stretch is not None:  # throats of length l != 2a, on the kernels' reference length
+            area = area * stretch
+            g_num = g_num / stretch
         links = lat.outlet_links(at)
+        outlet_factor = float(np.mean(c_area)) * float(np.mean(c_perm))
         self.conductances = Conductances(
             between=g_num / MENISCUS_LENGTH,  # zeroed for throats touching drained pores
             meniscus=g_num,
             area=area,
-            entry_pressure=2.0 / r,
-            outlet=links * c_area * c_perm * lat.mean_aperture**4,  # half throats, length a
+            entry_pressure=np.asarray(lat.entry_pressures(r), dtype=np.float64),
+            outlet=links * outlet_factor * lat.mean_aperture**4,  # half throats, length a
         )
         cond = self.conductances
         #: Boundary cross-section A_b / a^2 (4 L a for centre injection).
@@ -536,6 +558,11 @@ class ViscousDrainage(FluidModel):
         if throats is None:
             throats = np.arange(len(cond.area), dtype=np.int64)
         c_area, c_perm = self.lattice.throat_factors
+        if np.ndim(c_area) or np.ndim(c_perm) or throat_stretch(self.lattice) is not None:
+            raise ConfigError(
+                f"the {type(self.lattice).__name__} lattice's throats differ in shape or length: "
+                "a deformable solid needs the square lattice's uniform throats (docs/lattices.md)"
+            )
         limit = refresh_throats(
             np.ascontiguousarray(throats, dtype=np.int64), state.apertures,
             (float(c_area), float(c_perm), MENISCUS_LENGTH), net, cond, state.drained,

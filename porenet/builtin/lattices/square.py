@@ -156,14 +156,24 @@ class SquareLattice(Lattice):
     # -- solid network ----------------------------------------------------------------------
     @cached_property
     def particle_coords(self) -> np.ndarray:
-        big_i, big_j = np.divmod(np.arange((self.n + 1) ** 2), self.n + 1)
-        return np.stack([2.0 * big_j, 2.0 * big_i], axis=1)
+        return particle_coords(self.n)
 
     @cached_property
     def spring_particles(self) -> np.ndarray:
-        n, n1 = self.n, self.n + 1
-        i, j = np.divmod(np.arange(n * (n - 1)), n - 1)
-        vertical_springs = np.stack([i * n1 + j + 1, (i + 1) * n1 + j + 1], axis=1)
-        i, j = np.divmod(np.arange((n - 1) * n), n)
-        horizontal_springs = np.stack([(i + 1) * n1 + j, (i + 1) * n1 + j + 1], axis=1)
-        return np.concatenate([vertical_springs, horizontal_springs]).astype(np.int64)
+        return spring_particles(self.n)
+
+
+def particle_coords(n: int) -> np.ndarray:
+    """((n+1)^2, 2) float: the particle centres (2J, 2I) of an n x n lattice, in units of a."""
+    big_i, big_j = np.divmod(np.arange((n + 1) ** 2), n + 1)
+    return np.stack([2.0 * big_j, 2.0 * big_i], axis=1)
+
+
+def spring_particles(n: int) -> np.ndarray:
+    """(2 n (n-1), 2) int64: the particles each throat's spring joins (module docstring)."""
+    n1 = n + 1
+    i, j = np.divmod(np.arange(n * (n - 1)), n - 1)
+    vertical_springs = np.stack([i * n1 + j + 1, (i + 1) * n1 + j + 1], axis=1)
+    i, j = np.divmod(np.arange((n - 1) * n), n)
+    horizontal_springs = np.stack([(i + 1) * n1 + j, (i + 1) * n1 + j + 1], axis=1)
+    return np.concatenate([vertical_springs, horizontal_springs]).astype(np.int64)
