@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from porenet.core.errors import ConfigError
+from porenet.core.extent import lattice_extent
 
 #: The exit statuses of every ``porenet`` command (``porenet --help`` prints this).
 EXIT_STATUS_HELP = """\
@@ -276,11 +277,12 @@ def check_memory(plan: Any, *, ignore: bool = False) -> str | None:
     available = available_memory()
     if need is None or available is None or need <= available[0]:
         return None
-    n = getattr(plan.scene.lattice, "n", None)
-    what = f"lattice.n = {n}" if n is not None else "this scene"
+    extent = lattice_extent(plan.scene.lattice)
+    what = extent.size_field if extent is not None else "this scene"
+    field = what.split(" = ")[0] if extent is not None else "the lattice's size"
     message = (
         f"{what} needs ~{_size(need)} of memory (the plan's estimate, docs/cost.md), more "
-        f"than the {_size(available[0])} available ({available[1]}); reduce lattice.n"
+        f"than the {_size(available[0])} available ({available[1]}); reduce {field}"
     )
     if ignore:
         return message.split("; ")[0] + "; --ignore-memory: trying anyway"

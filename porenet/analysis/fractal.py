@@ -209,6 +209,13 @@ def _auto_upper(extent: float, lower: float) -> float:
     return max(RANGE_FRACTION * extent, MIN_RANGE_RATIO * lower)
 
 
+def distances(dx: np.ndarray) -> np.ndarray:
+    """Euclidean lengths of the rows of ``dx``, (N, 2) or (N, 3) (``hypot`` in 2-D)."""
+    if dx.shape[1] == 2:
+        return np.hypot(dx[:, 0], dx[:, 1])
+    return np.sqrt(np.einsum("ij,ij->i", dx, dx))
+
+
 def _mass_radius(
     drained: np.ndarray,
     coords: np.ndarray,
@@ -221,10 +228,16 @@ def _mass_radius(
     drained = np.asarray(drained)
     coords = np.asarray(coords, dtype=np.float64)
     centre = np.asarray(centre, dtype=np.float64)
-    if drained.ndim != 1 or coords.shape != (drained.size, 2) or centre.shape != (2,):
+    d = coords.shape[-1] if coords.ndim == 2 else 0
+    if (
+        drained.ndim != 1
+        or coords.shape != (drained.size, d)
+        or d not in (2, 3)
+        or (centre.shape != (d,))
+    ):
         raise ValueError(
-            f"need drained (N,), coords (N, 2) and centre (2,), got {drained.shape}, "
-            f"{coords.shape} and {centre.shape}"
+            f"need drained (N,), coords (N, d) and centre (d,) with d = 2 or 3, got "
+            f"{drained.shape}, {coords.shape} and {centre.shape}"
         )
     if not spacing > 0:
         raise ValueError(f"spacing must be positive, got {spacing}")
@@ -233,8 +246,7 @@ def _mass_radius(
         raise ValueError(
             f"the pattern has {np.count_nonzero(drained)} drained pore(s): D_f needs at least 2"
         )
-    xy = (coords[drained] - centre) / spacing
-    r = np.sort(np.hypot(xy[:, 0], xy[:, 1]))
+    r = np.sort(distances((coords[drained] - centre) / spacing))
     far = float(r[-1])
     lo = SCALE_MIN if r_min is None else float(r_min)
     auto_hi = r_max is None
@@ -295,9 +307,9 @@ def mass_radius(
     ----------
     drained : ndarray of bool, shape (N,)
         The pattern.
-    coords : ndarray of float, shape (N, 2)
+    coords : ndarray of float, shape (N, d), d = 2 or 3
         Pore centres, in any length unit.
-    centre : (2,) float
+    centre : (d,) float
         The inlet, in the unit of ``coords``.
     spacing : float
         Lattice spacing in the unit of ``coords`` (``2a`` for porenet's square lattice).
@@ -474,12 +486,14 @@ def pattern_dimension(data: RunData, method: str = "mass-radius") -> FractalFit:
     trapping = bool((scene.get("fluid") or {}).get("trapping", True))
     spacing = 2.0 * float(data.pore_size)
     coords = np.asarray(data.pore_coords, dtype=np.float64)
+    if coords.shape[1] == 3:  # the bias tables are for 2-D lattices: none in 3-D
+        injection = f"{injection} (3-D)"
     if data.grid_shape is not None:
         n = float(max(data.grid_shape))
     else:
         n = float(np.ptp(coords, axis=0).max()) / spacing + 1.0
     if method == "mass-radius":
-        if injection != "centre":
+        if not injection.startswith("centre"):
             raise ValueError(
                 f"mass-radius needs a point inlet (injection at the centre), this run injects "
                 f"at {injection!r}: use method='box-counting'"
@@ -527,7 +541,7 @@ def mass_radius_dimension(
     if not 0 < r_min < r_max:
         raise ValueError(f"need 0 < r_min < r_max, got r_min = {r_min}, r_max = {r_max}")
     xy = np.asarray(coords, dtype=np.float64)[np.asarray(drained, dtype=bool)]
-    r = np.sort(np.hypot(xy[:, 0] - centre[0], xy[:, 1] - centre[1]))
+    r = np.sort(distances(xy - np.asarray(centre, dtype=np.float64)))
     radii = np.geomspace(r_min, r_max, n_radii)
     mass = np.searchsorted(r, radii, side="right").astype(np.float64)
     if np.count_nonzero(mass > 0) < 2:

@@ -59,6 +59,7 @@ from typing import Any
 
 from porenet.analysis.numbers import fracturing_number
 from porenet.builtin.fluids.config import auto_integrator
+from porenet.core.extent import lattice_extent
 from porenet.core.sites import site_geometry
 
 #: Invasion percolation, centre injection, ensemble mean drained fraction at breakthrough
@@ -71,6 +72,9 @@ IP_COMPLETE_CENTRE = (1.37, 0.167)
 IP_COMPLETE_EDGE = (1.17, 0.183)
 #: Without trapping more is drained by breakthrough (ensemble medians, n = 25-800).
 IP_NO_TRAPPING_FACTOR = 1.2
+#: 3-D cubic lattice, centre injection, drained fraction at breakthrough ``a n^-b`` (with
+#: trapping; ``python examples/scripts/ip_3d.py``, n = 16-96, 16 seeds; docs/cost.md).
+IP_3D = (0.029, 0.21)
 #: Injected mean pore volumes per drained pore (docs/model.md, "Dynamic viscous drainage").
 VOLUME_PER_DRAINED = 2.8
 #: Implicit integrator: steps per drained pore (~13 for Ca = 1e-4 to 1e-6, docs/performance.md).
@@ -336,10 +340,10 @@ def pump_rate(scene: Any) -> float | None:
     """Injection rate ``q`` in scaled units (volume ``a^3`` per scaled time ``mu a / gamma``),
     ``None`` without rate control."""
     fluid, lat = scene.fluid, scene.lattice
-    if getattr(fluid, "control", "rate") != "rate":
+    extent = lattice_extent(lat)
+    if getattr(fluid, "control", "rate") != "rate" or extent is None:
         return None
-    n = int(lat.n)
-    cross_section = n if site_geometry(scene.injection.at) == "face" else 4 * n
+    cross_section = extent.cross_section(site_geometry(scene.injection.at))
     ca = getattr(fluid, "capillary_number", None)
     if ca is not None:
         return float(ca) * cross_section
@@ -373,7 +377,8 @@ def local_steps_factor(scene: Any, pores: int, rigid: bool) -> float:
     fluid = scene.fluid
     if getattr(fluid, "local_steps", "off") == "off" or not rigid or fluid.control != "rate":
         return 1.0
-    if getattr(scene.lattice, "kind", None) != "square":  # local steps need a square grid
+    extent = lattice_extent(scene.lattice)
+    if extent is None or not extent.canonical_grid:  # local steps need a square grid
         return 1.0
     (n0, f0), (n1, f1) = LOCAL_STEPS_MIN_BOX, LOCAL_STEPS_FACTOR
     if pores < n0:
@@ -391,14 +396,19 @@ def estimate_cost(scene: Any) -> CostEstimate:
     """
     notes: list[str] = []
     lat, fluid, solid, stop = scene.lattice, scene.fluid, scene.solid, scene.stop
-    n = getattr(lat, "n", None)
-    if n is None:
+    extent = lattice_extent(lat)
+    if extent is None:
         return CostEstimate(None, None, None, None, None, (f"lattice {lat.kind!r}: no size",))
-    n = int(n)
-    pores = n * n
-    if lat.kind != "square":
-        notes.append(f"lattice {lat.kind!r} costed as an {n} x {n} square lattice")
-    disorder = getattr(lat, "disorder", None)
+    n, pores = extent.side, extent.pores
+    if extent.dimension == 3:
+        notes.append(
+            f"3-D lattice: drained pores from 3-D invasion percolation ({IP_3D[0]} n^-{IP_3D[1]}"
+            " at breakthrough); times scaled from the square lattice's per-pore costs, not "
+            "calibrated in 3-D (docs/cost.md)"
+        )
+    elif not extent.canonical_grid:
+        notes.append(f"lattice {lat.kind!r} costed as a square lattice of {pores:,} pores")
+    disorder = extent.disorder
     if disorder is None:
         disorder = 0.3
         notes.append("apertures from a file: disorder taken as 0.3")
@@ -416,9 +426,12 @@ def estimate_cost(scene: Any) -> CostEstimate:
 
     # -- drained pores --------------------------------------------------------------------
     trapping = bool(getattr(fluid, "trapping", True))
-    fraction = ip_drained_fraction(n, at=stop.at, trapping=trapping, injection=at)
+    if extent.dimension == 3:
+        fraction = IP_3D[0] * n ** -IP_3D[1] if stop.at == "breakthrough" else 1.0
+    else:
+        fraction = ip_drained_fraction(n, at=stop.at, trapping=trapping, injection=at)
     q = pump_rate(scene) if fluid.kind == "viscous" else None
-    ca = None if q is None else q / (n if site_geometry(at) == "face" else 4 * n)
+    ca = None if q is None else q / extent.cross_section(site_geometry(at))
     if ca is not None and stop.at == "breakthrough":
         fraction = fast_injection_fraction(n, ca, fraction)
     expected = pores * fraction

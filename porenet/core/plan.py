@@ -18,6 +18,7 @@ from porenet.analysis.numbers import (
     modified_capillary_number,
 )
 from porenet.core.cost import CostEstimate, estimate_cost
+from porenet.core.extent import lattice_extent
 from porenet.core.registry import Registry
 from porenet.core.sites import site_geometry
 
@@ -225,14 +226,15 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     lat = scene.lattice
     numbers: dict[str, float] = {}
     pore_size = getattr(lat, "pore_size", None)
-    n = getattr(lat, "n", None)
+    extent = lattice_extent(lat)
+    n = None if extent is None else extent.side
     if n is not None:
         numbers["pores_per_side"] = float(n)
         if pore_size is not None:
             # two lengths, both printed with their convention (docs/model.md section 1)
             numbers["L = n a (m), the L of Ca* and N_f"] = float(n) * float(pore_size)
             numbers["lattice extent 2 n a (m)"] = 2.0 * float(n) * float(pore_size)
-    lam = getattr(lat, "disorder", None)
+    lam = None if extent is None else extent.disorder
     if lam is not None:
         numbers["disorder"] = float(lam)
         numbers["lambda/(1-lambda^2)"] = disorder_factor(float(lam))
@@ -242,10 +244,10 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
     ca = getattr(scene.fluid, "capillary_number", None)
     rate = getattr(scene.fluid, "injection_rate", None)
     viscosity = getattr(scene.fluid, "viscosity", None)
-    if ca is None and None not in (rate, viscosity, gamma, pore_size, n):
-        # Ca = mu Q / (gamma A_b), A_b = 4 L a (centre) or L a (left edge)
-        sides = 1 if site_geometry(getattr(scene.injection, "at", "centre")) == "face" else 4
-        ca = float(rate) * float(viscosity) / (float(gamma) * sides * int(n) * pore_size**2)
+    if ca is None and extent is not None and None not in (rate, viscosity, gamma, pore_size):
+        # Ca = mu Q / (gamma A_b), A_b = 4 L a (centre) or L a (left edge) on the square lattice
+        cross_section = extent.cross_section(site_geometry(getattr(scene.injection, "at", "")))
+        ca = float(rate) * float(viscosity) / (float(gamma) * cross_section * pore_size**2)
     if ca is not None:
         numbers["Ca"] = float(ca)
         if lam is not None and n is not None and 0 < float(lam) < 1:

@@ -15,6 +15,7 @@ import numpy as np
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from porenet.config.base import ModelConfig
+from porenet.core.extent import LatticeExtent
 
 MAX_N = 10_000
 
@@ -193,6 +194,15 @@ class SquareLatticeConfig(ModelConfig):
         """The named injection sites of this lattice (docs/lattices.md)."""
         return ("centre", "x-", "x+", "y-", "y+", "left-edge")
 
+    def extent(self) -> LatticeExtent:
+        """The size the plan and the cost model read (:mod:`porenet.core.extent`)."""
+        n = self.n
+        return LatticeExtent(
+            pores=n * n, throats=2 * n * (n - 1), dimension=2, side=n,
+            outlet_links={"centre": 4 * n, "face": n}, canonical_grid=True,
+            disorder=self.disorder, size_field=f"lattice.n = {n}",
+        )  # fmt: skip
+
 
 def _needs_disorder(config: Any) -> Any:
     if config.apertures_file is None and config.disorder is None:
@@ -259,6 +269,19 @@ class CubicLatticeConfig(ModelConfig):
         """The named injection sites of this lattice (docs/lattices.md): z faces in 3-D."""
         faces = ("x-", "x+", "y-", "y+") + (("z-", "z+") if self.shape[2] > 1 else ())
         return ("centre", *faces, "left-edge")
+
+    def extent(self) -> LatticeExtent:
+        """The size the plan and the cost model read (:mod:`porenet.core.extent`); the face
+        cross-section is the x face's (``left-edge``)."""
+        nx, ny, nz = self.shape
+        boundary = 2 * (nx + ny) if nz == 1 else 2 * (nx * ny + ny * nz + nz * nx)
+        return LatticeExtent(
+            pores=nx * ny * nz, throats=cubic_throat_count(self.shape),
+            dimension=2 if nz == 1 else 3, side=max(self.shape),
+            outlet_links={"centre": boundary, "face": ny * nz},
+            canonical_grid=nz == 1 and nx == ny, disorder=self.disorder,
+            size_field=f"lattice.shape = {list(self.shape)}",
+        )  # fmt: skip
 
 
 def load_cubic_apertures_file(path: Path, shape: tuple[int, int, int]) -> np.ndarray:
