@@ -348,39 +348,46 @@ def mass_radius(
 
 
 def _box_counts(grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Box sides 1, 2, 4, ... (boxes aligned with the grid's first row and column) and the
-    number of boxes holding at least one True cell, up to a single box."""
+    """Box sides 1, 2, 4, ... (boxes aligned with the grid's first cell along every axis, in
+    2-D or 3-D) and the number of boxes holding at least one True cell, up to a single box."""
     sides, counts = [1], [int(np.count_nonzero(grid))]
     g = grid
-    while g.shape[0] > 1 or g.shape[1] > 1:
-        rows, cols = g.shape
-        if rows % 2 or cols % 2:
-            g = np.pad(g, ((0, rows % 2), (0, cols % 2)))
-            rows, cols = g.shape
-        g = g.reshape(rows // 2, 2, cols // 2, 2).any(axis=(1, 3))
+    while any(size > 1 for size in g.shape):
+        g = np.pad(g, [(0, size % 2) for size in g.shape])
+        halves = [d for size in g.shape for d in (size // 2, 2)]
+        g = g.reshape(halves).any(axis=tuple(range(1, 2 * g.ndim, 2)))
         sides.append(2 * sides[-1])
         counts.append(int(np.count_nonzero(g)))
     return np.asarray(sides, dtype=np.float64), np.asarray(counts, dtype=np.float64)
 
 
+def occupancy(drained: np.ndarray, coords: np.ndarray, spacing: float) -> np.ndarray:
+    """A 2-D or 3-D boolean grid of cells of side ``spacing`` holding the drained pores at
+    ``coords`` (N, d): the pattern of a lattice without a grid layout, for box counting."""
+    cells = np.floor((coords - coords.min(axis=0)) / spacing + 1e-9).astype(np.int64)
+    grid = np.zeros(cells.max(axis=0) + 1, dtype=bool)
+    grid[tuple(cells[np.asarray(drained, dtype=bool)].T)] = True
+    return grid
+
+
 def _box_counting(grid: np.ndarray, s_min: float | None, s_max: float | None) -> FractalFit:
     grid = np.asarray(grid)
-    if grid.ndim != 2:
-        raise ValueError(f"need a 2-D grid, got shape {grid.shape}")
+    if grid.ndim not in (2, 3):
+        raise ValueError(f"need a 2-D or 3-D grid, got shape {grid.shape}")
     grid = grid.astype(bool)
-    rows, cols = np.nonzero(grid)
-    if rows.size < 2:
-        raise ValueError(f"the pattern has {rows.size} occupied cell(s): D_f needs at least 2")
+    cells = np.argwhere(grid).astype(np.float64)
+    if len(cells) < 2:
+        raise ValueError(f"the pattern has {len(cells)} occupied cell(s): D_f needs at least 2")
     lo = SCALE_MIN if s_min is None else float(s_min)
     auto_hi = s_max is None
     if auto_hi:
-        extent = float(np.median(np.hypot(rows - rows.mean(), cols - cols.mean())))
+        extent = float(np.median(distances(cells - cells.mean(axis=0))))
         hi = _auto_upper(extent, lo)
     else:
         hi = float(s_max)
     if not 0 < lo < hi:
         raise ValueError(f"need 0 < s_min < s_max, got s_min = {lo:g}, s_max = {hi:g} cells")
-    span = max(int(np.ptp(rows)), int(np.ptp(cols))) + 1
+    span = int(np.ptp(cells, axis=0).max()) + 1
     scales, counts = _box_counts(grid)
     if auto_hi:
         hi = float(scales[scales <= hi * (1 + 1e-9)].max(initial=0.0))
@@ -457,7 +464,8 @@ def pattern_dimension(data: RunData, method: str = "mass-radius") -> FractalFit:
         lattice spacings ``2a``; it needs injection at the centre: with ``left-edge``
         injection the mass within a distance of the inlet line grows like ``R^{D_f - 1}`` only
         while R is below the lattice width and is not a fractal measure, so use
-        ``"box-counting"`` (it needs a grid lattice).
+        ``"box-counting"`` (on a lattice without a grid layout, over cells of one spacing:
+        the median distance between joined pores, in 2-D or 3-D).
 
     The bias is the one tabulated for the scene's injection and trapping (patterns of models
     without a ``trapping`` option, the dynamic ones, trap the defender and take the trapping
@@ -467,8 +475,8 @@ def pattern_dimension(data: RunData, method: str = "mass-radius") -> FractalFit:
     ------
     ValueError
         Unknown method; fewer than 2 drained pores or a pattern too small to fit (callers
-        report D_f as not measurable); mass-radius with left-edge injection; box counting on
-        a lattice without a grid.
+        report D_f as not measurable); mass-radius with injection elsewhere than at the
+        centre.
     """
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}: choose one of {', '.join(METHODS)}")
@@ -486,6 +494,9 @@ def pattern_dimension(data: RunData, method: str = "mass-radius") -> FractalFit:
     trapping = bool((scene.get("fluid") or {}).get("trapping", True))
     spacing = 2.0 * float(data.pore_size)
     coords = np.asarray(data.pore_coords, dtype=np.float64)
+    if data.grid_shape is None:  # the median distance between joined pores (2a on lattices)
+        tp = np.asarray(data.throat_pores)
+        spacing = float(np.median(distances(coords[tp[:, 0]] - coords[tp[:, 1]])))
     if coords.shape[1] == 3:  # the bias tables are for 2-D lattices: none in 3-D
         injection = f"{injection} (3-D)"
     if data.grid_shape is not None:
@@ -501,9 +512,10 @@ def pattern_dimension(data: RunData, method: str = "mass-radius") -> FractalFit:
         centre = coords[int(data.order[0])]
         fit = _mass_radius(drained, coords, centre, spacing, None, None, None)
     else:
-        if data.grid_shape is None:
-            raise ValueError("box counting needs a lattice with a grid layout")
-        fit = _box_counting(data.as_grid(drained), None, None)
+        if data.grid_shape is None:  # cells of one lattice spacing around the pores
+            fit = _box_counting(occupancy(drained, coords, spacing), None, None)
+        else:
+            fit = _box_counting(data.as_grid(drained), None, None)
     return _calibrated(fit, n, injection, trapping)
 
 
