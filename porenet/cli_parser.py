@@ -159,7 +159,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser(
         "export",
-        help="write a run file for ParaView (XDMF) that points into it",
+        help="write an XDMF file for ParaView that points into a run file",
         description="Write RUN.xdmf beside the run file: pores as points, throats as cells, "
         "the per-pore and per-throat fields, snapshots as time steps. It points into the "
         "run file (nothing numeric is copied); booleans, the drain index and flat views of "

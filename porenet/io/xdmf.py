@@ -180,6 +180,7 @@ class _Planner:
 
 
 def _cells(f: Any) -> Array:
+    """The throats, two pore indices each (``/lattice/throat_pores``, referenced)."""
     ds = f["lattice/throat_pores"]
     if ds.ndim != 2 or ds.shape[1] != 2:
         raise RunFileError(f"{f.filename}: lattice/throat_pores has shape {ds.shape}, not (M, 2)")
@@ -278,6 +279,8 @@ def _number_type(dtype: np.dtype) -> dict[str, str]:
 
 
 def _data_item(parent: ET.Element, array: Array, refs: dict[str, str]) -> None:
+    """A ``DataItem`` under ``parent`` naming ``array`` as ``FILE:/dataset`` (``refs``: the
+    file names by :data:`RUN` and :data:`SIDECAR`)."""
     item = ET.SubElement(
         parent,
         "DataItem",
@@ -289,6 +292,9 @@ def _data_item(parent: ET.Element, array: Array, refs: dict[str, str]) -> None:
 
 
 def _grid(parent: ET.Element, export: Export, step: Step, refs: dict[str, str]) -> None:
+    """One uniform grid under ``parent``: ``step``'s time (s), the throats, the pores and
+    ``step``'s fields. Every grid repeats the topology and geometry (references, not data):
+    the form every reader takes."""
     grid = ET.SubElement(parent, "Grid", Name=step.name, GridType="Uniform")
     if step.time is not None:
         ET.SubElement(grid, "Time", Value=repr(step.time))
@@ -343,7 +349,7 @@ def sidecar_image(export: Export, run_ref: str) -> io.BytesIO:
     where HDF5 looks for it first)."""
     import h5py
 
-    from porenet import __version__
+    from porenet._version import __version__
 
     buffer = io.BytesIO()
     with h5py.File(buffer, "w") as side:
