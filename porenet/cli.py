@@ -288,6 +288,21 @@ def cmd_classify(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_export(args: argparse.Namespace) -> int:
+    from porenet import cli_checks
+    from porenet.io.runfile import check_run_file
+    from porenet.io.xdmf import check_not_run_file, default_output, export_xdmf
+
+    run = Path(args.runfile)
+    out = Path(args.output) if args.output else default_output(run)
+    check_run_file(run)  # its header only: a missing or foreign file before anything else
+    check_not_run_file(run, out)
+    cli_checks.check_export_output(out, args.overwrite)
+    xdmf, sidecar = export_xdmf(run, out)
+    print(f"xdmf: {xdmf} (with {sidecar}; open it with `paraview {xdmf}`)")
+    return 0
+
+
 def cmd_phase_diagram(args: argparse.Namespace) -> int:
     from porenet import cli_checks
 
@@ -385,6 +400,7 @@ COMMANDS = {
     "plugins": cmd_plugins,
     "plot": cmd_plot,
     "classify": cmd_classify,
+    "export": cmd_export,
     "phase-diagram": cmd_phase_diagram,
     "sweep": cmd_sweep,
     "schema": cmd_schema,

@@ -92,6 +92,24 @@ def check_run_output(output: Path, overwrite: bool) -> None:
         )
 
 
+def check_export_output(output: Path, overwrite: bool) -> None:
+    """Before ``porenet export``: the XDMF file can be created (:func:`check_output_file`),
+    and an existing XDMF file or sidecar (``OUT.xdmf.h5``) is replaced only if ``porenet
+    export`` wrote it, or with ``--overwrite`` (docs/run-file.md, "ParaView (XDMF export)")."""
+    check_output_file(output, "-o")
+    from porenet.io.xdmf import is_export, sidecar_path
+
+    sidecar = sidecar_path(output)
+    if sidecar.is_dir():
+        raise ConfigError(f"-o {output}: its sidecar {sidecar} is a directory; give another name")
+    for path in (output, sidecar):
+        if path.exists() and not overwrite and not is_export(path):
+            raise ConfigError(
+                f"-o {output}: {path} exists and was not written by porenet export; not "
+                "replaced (choose another name, or --overwrite to replace it)"
+            )
+
+
 def check_picture_output(path: Path, flag: str) -> None:
     """A picture to write: :func:`check_output_file`, and a format (suffix) matplotlib
     writes."""

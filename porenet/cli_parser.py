@@ -158,6 +158,32 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="machine-readable output")
 
     p = sub.add_parser(
+        "export",
+        help="write an XDMF file for ParaView that points into a run file",
+        description="Write RUN.xdmf beside the run file: pores as points, throats as cells, "
+        "the per-pore and per-throat fields, snapshots as time steps. It points into the "
+        "run file (nothing numeric is copied); booleans, the drain index and flat views of "
+        "grid-shaped fields go into a small sidecar, RUN.xdmf.h5. Open it with `paraview "
+        'RUN.xdmf` (docs/run-file.md, "ParaView (XDMF export)").',
+    )
+    p.add_argument("runfile", help="run file (HDF5); only read")
+    p.add_argument(
+        "--format", choices=["xdmf"], default="xdmf", help="what to write (default xdmf)"
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        help="XDMF file to write (default: RUNFILE with the suffix .xdmf, beside it); its "
+        "sidecar is OUTPUT.h5. Files porenet export wrote are replaced, others only with "
+        "--overwrite",
+    )
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace the -o file and its sidecar even if porenet export did not write them",
+    )
+
+    p = sub.add_parser(
         "phase-diagram",
         help="draw a sweep's regimes on Ca-lambda (rigid) or N_f-Ca* (deformable) axes",
     )

@@ -166,9 +166,15 @@ class RunData:
 
     def drainage_step(self) -> np.ndarray:
         """(N,) int64: step at which each pore drained, -1 if never."""
-        step = np.full(self.n_pores, -1, dtype=np.int64)
-        step[self.order] = np.arange(len(self.order))
-        return step
+        return drainage_step(self.order, self.n_pores)
+
+
+def drainage_step(order: np.ndarray, n_pores: int) -> np.ndarray:
+    """(N,) int64: the step at which each pore drained (its place in ``order``, the pores in
+    order of drainage, inlets first), -1 for a pore that never drained."""
+    step = np.full(n_pores, -1, dtype=np.int64)
+    step[np.asarray(order)] = np.arange(len(order))
+    return step
 
 
 @dataclass

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import io
 import json
 import os
 import stat
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -276,10 +278,29 @@ def read_run(path: str | Path) -> RunData:
         damaged (any error while reading it), or of a newer format.
     """
     path = Path(path)
+    with open_run(path) as f:
+        return _read(f)
+
+
+@contextlib.contextmanager
+def open_run(path: str | Path) -> Iterator[Any]:
+    """``path`` open for reading (an ``h5py.File``), once it is known to be a porenet run
+    file of a version this reader knows.
+
+    An error raised by h5py inside the block (a dataset that cannot be read) becomes the
+    RunFileError of a damaged file, naming it, as :func:`read_run` reports one.
+
+    Raises
+    ------
+    RunFileError
+        As :func:`read_run`.
+    """
+    path = Path(path)
     f = _open(path)
     try:
         with f:
-            return _read(f, path)
+            _check_header(f, path)
+            yield f
     except (PorenetError, MemoryError):
         raise
     except Exception as exc:  # whatever a damaged file makes h5py raise
@@ -303,20 +324,12 @@ def check_run_file(path: str | Path) -> None:
     (missing, a directory, unreadable, not HDF5, foreign, too new), reading only its header:
     cheap, for commands that check their input before they start work. A file damaged
     further in is found by :func:`read_run`."""
-    path = Path(path)
-    f = _open(path)
-    try:
-        with f:
-            _check_header(f, path)
-    except (PorenetError, MemoryError):
-        raise
-    except Exception as exc:  # whatever a damaged file makes h5py raise
-        raise _damaged(path, exc) from None
+    with open_run(path):
+        pass
 
 
-def _read(f: Any, path: Path) -> RunData:
-    """The RunData in ``f``, an open ``h5py.File``."""
-    _check_header(f, path)
+def _read(f: Any) -> RunData:
+    """The RunData in ``f``, an open ``h5py.File`` (checked by :func:`open_run`)."""
     lat = f["lattice"]
     shape = tuple(int(x) for x in lat.attrs["grid_shape"]) if "grid_shape" in lat.attrs else None
 
