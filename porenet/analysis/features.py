@@ -118,8 +118,35 @@ def opened_fraction(data: RunData) -> float:
     return float(np.count_nonzero(np.asarray(removed, dtype=bool)[entered])) / entered.size
 
 
+def _grid_features(data: RunData) -> dict[str, Any]:
+    grid = data.as_grid(data.drained)
+    n_drained = int(np.count_nonzero(grid))
+    widths = finger_widths(grid)
+    runs = straight_runs(grid)
+    thin = straight_runs(grid, thin=True)
+    long_thin = thin[thin >= LONG_RUN]
+    return {
+        "drained_fraction": n_drained / grid.size,
+        "trapped_fraction": float(np.count_nonzero(data.trapped & ~data.drained)) / grid.size,
+        "finger_width_mean": float(widths.mean()) if widths.size else float("nan"),
+        "finger_width_median": float(np.median(widths)) if widths.size else float("nan"),
+        "longest_run": int(runs.max()) if runs.size else 0,
+        "longest_thin_run": int(thin.max()) if thin.size else 0,
+        "thin_run_fraction": float(long_thin.sum()) / n_drained if n_drained else 0.0,
+        **anisotropy(grid),
+    }
+
+
+def _network_features(data: RunData) -> dict[str, Any]:
+    from porenet.analysis.network_features import network_pattern_features
+
+    return network_pattern_features(data, LONG_RUN)
+
+
 def pattern_features(data: RunData) -> dict[str, Any]:
-    """The features a classifier needs, for a run on a grid lattice.
+    """The features a classifier needs, for a run on any lattice: on a grid lattice from the
+    grid (the functions above), on any other from the pores and throats
+    (:mod:`porenet.analysis.network_features`, the same keys).
 
     Returns
     -------
@@ -132,25 +159,8 @@ def pattern_features(data: RunData) -> dict[str, Any]:
         rigid media), ``gyration_ratio``, ``axis_bias`` (:func:`anisotropy`), ``n_bursts``,
         ``mean_burst``, ``largest_burst`` (where bursts were recorded).
     """
-    if data.grid_shape is None:
-        raise ValueError("pattern features need a lattice with a grid layout")
-    grid = data.as_grid(data.drained)
-    n_drained = int(np.count_nonzero(grid))
-    widths = finger_widths(grid)
-    runs = straight_runs(grid)
-    thin = straight_runs(grid, thin=True)
-    long_thin = thin[thin >= LONG_RUN]
-    features: dict[str, Any] = {
-        "drained_fraction": n_drained / grid.size,
-        "trapped_fraction": float(np.count_nonzero(data.trapped & ~data.drained)) / grid.size,
-        "finger_width_mean": float(widths.mean()) if widths.size else float("nan"),
-        "finger_width_median": float(np.median(widths)) if widths.size else float("nan"),
-        "longest_run": int(runs.max()) if runs.size else 0,
-        "longest_thin_run": int(thin.max()) if thin.size else 0,
-        "thin_run_fraction": float(long_thin.sum()) / n_drained if n_drained else 0.0,
-        "opened_fraction": opened_fraction(data),
-    }
-    features.update(anisotropy(grid))
+    features = _grid_features(data) if data.grid_shape is not None else _network_features(data)
+    features["opened_fraction"] = opened_fraction(data)
     bursts = np.asarray(data.burst_sizes)
     features["n_bursts"] = int(bursts.size)
     features["mean_burst"] = float(bursts.mean()) if bursts.size else float("nan")

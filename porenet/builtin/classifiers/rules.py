@@ -17,9 +17,13 @@ geometric features (:func:`porenet.analysis.features.pattern_features`):
    weighted down when its uncertainty exceeds ``dimension_scale``. A vote within
    ``intermediate_band`` of 0 gives CF/VF.
 
-Patterns too small to judge (fewer than ``min_drained`` pores, or a lattice without a grid)
-raise ``ValueError``; at the end of a run :func:`porenet.analysis.classify.classify_run` then
-falls back on the theory predictor, with its confidence halved. Thresholds and the accuracy
+On lattices without a grid layout (3-D, imported networks) the features are measured on the
+pores and throats (:mod:`porenet.analysis.network_features`) and the verdict's details say
+that the thresholds were calibrated on the square lattice.
+
+Patterns too small to judge (fewer than ``min_drained`` pores) raise ``ValueError``; at the
+end of a run :func:`porenet.analysis.classify.classify_run` then falls back on the theory
+predictor, with its confidence halved. Thresholds and the accuracy
 they give on labelled ensembles: docs/classification.md.
 """
 
@@ -49,13 +53,16 @@ class RulesClassifier(Classifier):
     def classify(self, run: Any) -> Classification:
         c = self.config
         data = getattr(run, "data", run)
-        if data.grid_shape is None:
-            raise ValueError("rules: the lattice has no grid layout")
         if int(data.drained.sum()) < c.min_drained:
             raise ValueError(f"rules: fewer than {c.min_drained} drained pores")
         features = pattern_features(data)
         fit = measure_dimension(data)
         details: dict[str, Any] = dict(features)
+        if data.grid_shape is None:  # the thresholds were calibrated on the square lattice
+            details["note"] = (
+                "features measured on the network's pores and throats; the thresholds were "
+                "calibrated on the square lattice (docs/classification.md)"
+            )
         # CF (+) against VF (-): width always votes, D_f with a weight set by its uncertainty
         votes = [(1.0, _clip((features["finger_width_mean"] - c.width_split) / c.width_scale))]
         if fit is not None:
