@@ -44,17 +44,15 @@ def figure_pressure(data: RunData) -> Figure:
 @styled
 def figure_fractal(data: RunData) -> Figure:
     """Mass against distance from the inlet with its fit (injection at the centre) beside box
-    counting (grid lattices), each from ``pattern_dimension`` with its automatic range."""
+    counting, each from ``pattern_dimension`` with its automatic range."""
     from matplotlib.figure import Figure
 
     from porenet.analysis.fractal import pattern_dimension
     from porenet.viz.fractal import plot_fractal_fit
 
-    methods = ["box-counting"] if data.grid_shape is not None else []
+    methods = ["box-counting"]
     if data.scene.get("injection", {}).get("at", "centre") == "centre":
         methods.insert(0, "mass-radius")
-    if not methods:
-        raise ValueError("mass-radius needs injection at the centre, box counting a grid")
     fits = [pattern_dimension(data, method=m) for m in methods]
     fig = Figure(figsize=(4.2 * len(fits), 3.6), dpi=150, layout="constrained")
     for ax, fit in zip(fig.subplots(1, len(fits), squeeze=False)[0], fits, strict=True):
@@ -92,7 +90,9 @@ PLOT_KINDS: dict[str, tuple[Callable[[RunData], Figure], str]] = {
     kind: (_FIGURES[kind], description) for kind, description in PLOT_KIND_DESCRIPTIONS.items()
 }
 
-_MAPS = ("pattern", "time", "pressure", "mechanics")
+#: Kinds drawn as an image of the grid (the pattern and times are drawn on any lattice:
+#: porenet.viz.network).
+_MAPS = ("pressure", "mechanics")
 
 
 def missing(data: RunData, kind: str) -> str | None:

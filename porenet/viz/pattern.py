@@ -101,7 +101,9 @@ def plot_pattern(
     Parameters
     ----------
     data : RunData
-        A run (``porenet.read_run(path)`` or ``RunResult.data``) on a grid lattice.
+        A run (``porenet.read_run(path)`` or ``RunResult.data``). A grid lattice is drawn as
+        an image; any other as its pores (and throats) in 2-D, or as three projections in
+        3-D (:mod:`porenet.viz.network`).
     ax : matplotlib Axes, optional
         Axes to draw into; a new figure is made otherwise.
     cmap : str
@@ -114,8 +116,6 @@ def plot_pattern(
     """
     if color_by not in COLOR_BY:
         raise ValueError(f"color_by must be one of {', '.join(COLOR_BY)}, not {color_by!r}")
-    if data.grid_shape is None:
-        raise ValueError("plot_pattern needs a lattice with a grid layout")
     if color_by == "time":
         values = pore_times(data)
         t_unit, t_factor = time_unit(np.nanmax(values) if np.isfinite(values).any() else 1.0)
@@ -125,19 +125,28 @@ def plot_pattern(
         values = data.drainage_step().astype(float)
         values[values < 0] = np.nan
         label = "drainage step"
-    fig, ax, extent, unit = grid_axes(data, ax)
-    draw_trapped(data, ax, extent)
-    im = ax.imshow(data.as_grid(values), cmap=cmap, extent=extent, interpolation="nearest")
-    fig.colorbar(im, ax=ax, label=label, shrink=0.85)
-    label_map(ax, unit)
-    if title is None:
-        fluid = data.scene.get("fluid", {})
-        extra = []
-        if "trapping" in fluid:
-            extra.append("trapping" if fluid["trapping"] else "no trapping")
-        title = scene_title(data, extra)
-    ax.set_title(title)
+    if data.grid_shape is None:  # an irregular network or a 3-D lattice
+        from porenet.viz.network import draw_network_pattern
+
+        fig, axes = draw_network_pattern(data, values, label, cmap, ax)
+        ax = axes[0]
+        if len(axes) > 1:  # the projections of a 3-D pattern: one title over the panels
+            fig.suptitle(title or scene_title(data, _extra(data)))
+            return fig
+    else:
+        fig, ax, extent, unit = grid_axes(data, ax)
+        draw_trapped(data, ax, extent)
+        im = ax.imshow(data.as_grid(values), cmap=cmap, extent=extent, interpolation="nearest")
+        fig.colorbar(im, ax=ax, label=label, shrink=0.85)
+        label_map(ax, unit)
+    ax.set_title(title or scene_title(data, _extra(data)))
     return fig
+
+
+def _extra(data: RunData) -> list[str]:
+    """Whether the run trapped the defender, for the title (where the fluid model says)."""
+    fluid = data.scene.get("fluid", {})
+    return [("trapping" if fluid["trapping"] else "no trapping")] if "trapping" in fluid else []
 
 
 def save_figure(fig: Figure, path: Any, **kwargs: Any) -> None:

@@ -129,7 +129,10 @@ def scene_title(data: Any, extra: list[str] | None = None, width: int = 48) -> s
     if solid.get("kind") not in (None, "rigid"):
         kind = f"{kind} + {solid['kind']}" if kind else solid["kind"]
     parts = [scene.get("name") or kind]
-    if data.grid_shape is not None:
+    shape = lat.get("shape")
+    if shape is not None:  # the cubic lattice: nx x ny x nz
+        parts.append(" x ".join(str(s) for s in (shape if shape[-1] > 1 else shape[:2])))
+    elif data.grid_shape is not None:
         parts.append(f"n = {data.grid_shape[0]}")
     if fluid.get("capillary_number") is not None:
         parts.append(f"Ca = {fluid['capillary_number']:.3g}")
