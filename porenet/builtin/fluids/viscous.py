@@ -187,10 +187,15 @@ class ViscousDrainage(FluidModel):
             grid_n=grid_n,
         )
         c_area, c_perm = lat.throat_factors
+        stretch = throat_stretch(lat)
+        if self.context.deformable and (np.ndim(c_area) or np.ndim(c_perm) or stretch is not None):
+            raise ConfigError(
+                f"the {type(lat).__name__} lattice's throats differ in shape or length: a "
+                "deformable solid needs the square lattice's uniform throats (docs/lattices.md)"
+            )
         r = np.asarray(state.apertures, dtype=np.float64)
         area = c_area * r**2
         g_num = area * c_perm * r**2  # A k: meniscus conductance times length
-        stretch = throat_stretch(lat)
         if stretch is not None:  # throats of length l != 2a, on the kernels' reference length
             area = area * stretch
             g_num = g_num / stretch
@@ -558,11 +563,6 @@ class ViscousDrainage(FluidModel):
         if throats is None:
             throats = np.arange(len(cond.area), dtype=np.int64)
         c_area, c_perm = self.lattice.throat_factors
-        if np.ndim(c_area) or np.ndim(c_perm) or throat_stretch(self.lattice) is not None:
-            raise ConfigError(
-                f"the {type(self.lattice).__name__} lattice's throats differ in shape or length: "
-                "a deformable solid needs the square lattice's uniform throats (docs/lattices.md)"
-            )
         limit = refresh_throats(
             np.ascontiguousarray(throats, dtype=np.int64), state.apertures,
             (float(c_area), float(c_perm), MENISCUS_LENGTH), net, cond, state.drained,
