@@ -51,11 +51,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[16, 24, 32, 48, 64, 96])
     parser.add_argument("--seeds", type=int, default=16)
+    parser.add_argument("--trapping", choices=["both", "yes", "no"], default="both")
     args = parser.parse_args()
     sizes = np.array(args.sizes, dtype=float)
     print("| trapping | n | mean drained fraction | log-mass spread | seconds |")
     print("|---|---|---|---|---|")
-    for trapping in (True, False):
+    modes = {"both": (True, False), "yes": (True,), "no": (False,)}[args.trapping]
+    for trapping in modes:
         log_mass, log_err, last = [], [], []
         for n in args.sizes:
             t0 = time.perf_counter()
@@ -71,6 +73,13 @@ def main() -> None:
         b, _, _ = weighted_line(np.log(sizes), y - 3 * np.log(sizes), e)
         print(f"trapping {trapping}: fraction = {np.exp(c):.3f} n^{b:.3f} (i.e. a n^-b, "
               f"b = {-b:.3f}); finite-size D = {d:.3f} ± {d_err:.3f}")  # fmt: skip
+        # the effective exponent between consecutive sizes, which should drift towards the
+        # percolation cluster's D as the corrections to scaling fade
+        for k in range(1, len(sizes)):
+            slope = (y[k] - y[k - 1]) / np.log(sizes[k] / sizes[k - 1])
+            err = np.hypot(e[k], e[k - 1]) / np.log(sizes[k] / sizes[k - 1])
+            print(f"trapping {trapping}: local D between n = {sizes[k - 1]:g} and "
+                  f"{sizes[k]:g}: {slope:.3f} ± {err:.3f}")  # fmt: skip
         n = args.sizes[-1]
         radii = np.geomspace(2.0, n / 8.0, 10)
         mass = np.array([

@@ -72,9 +72,10 @@ IP_COMPLETE_CENTRE = (1.37, 0.167)
 IP_COMPLETE_EDGE = (1.17, 0.183)
 #: Without trapping more is drained by breakthrough (ensemble medians, n = 25-800).
 IP_NO_TRAPPING_FACTOR = 1.2
-#: 3-D cubic lattice, centre injection, drained fraction at breakthrough ``a n^-b`` (with
-#: trapping; ``python examples/scripts/ip_3d.py``, n = 16-96, 16 seeds; docs/cost.md).
-IP_3D = (0.029, 0.21)
+#: 3-D cubic lattice, centre injection, drained fraction at breakthrough ``a n^-b`` (the same
+#: with and without trapping; ``python examples/scripts/ip_3d.py --sizes 24 48 96 192 --seeds
+#: 48 --trapping no``; docs/cost.md). ``3 - b`` is the cluster's fractal dimension.
+IP_3D = (0.073, 0.47)
 #: Injected mean pore volumes per drained pore (docs/model.md, "Dynamic viscous drainage").
 VOLUME_PER_DRAINED = 2.8
 #: Implicit integrator: steps per drained pore (~13 for Ca = 1e-4 to 1e-6, docs/performance.md).
