@@ -52,6 +52,7 @@ class NetworkLatticeConfig(ModelConfig):
     )
     throat_length: Literal["total", "throat", "centres"] = Field(
         "total",
+        validate_default=True,
         description="Length of a throat, over which it conducts and holds fluid: 'total', "
         "pore centre to pore centre as the file gives it (throat.total_length; Statoil: "
         "link1's length), 'throat', the throat's own part (throat.length; Statoil: link2's "

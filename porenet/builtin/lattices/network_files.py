@@ -284,7 +284,7 @@ def _first_key(
     family = keys[0].split(".")[0] + "."
     found = ", ".join(k for k in heads if k.startswith(family)) or "none"
     raise ValueError(
-        f"{path}: no {what}: expected an array {' or '.join(map(repr, keys))} "
+        f"{path}: no array of {what}: expected {' or '.join(map(repr, keys))} "
         f"(found {family}*: {found})"
     )
 
@@ -399,7 +399,8 @@ def checked_floats(
         bad |= ~(out > 0)
     if bad.any():
         first = np.unravel_index(int(np.flatnonzero(bad.ravel())[0]), out.shape)
-        where = f"line {int(lines[first[0]])}" if lines is not None else f"{list(first)}"
+        index = [int(i) for i in first]
+        where = f"line {int(lines[index[0]])}" if lines is not None else f"{index}"
         rule = "positive and finite" if positive else "finite"
         raise ValueError(
             f"{path}: {key!r} has {int(bad.sum())} value(s) that are not {rule} "
@@ -464,18 +465,18 @@ def read_statoil(node1: Path, throat_length: str = "total") -> NetworkData:
     link1, link1_lines = _table(paths[2], link1_numbers, LINK1_COLUMNS, m, header=True)
     link2, _ = _table(paths[3], _numbers(paths[3]), LINK2_COLUMNS, m, header=False)
     pores = _integers(paths[2], "pore 1, pore 2 (columns 2, 3)", link1[:, 1:3], link1_lines)
-    if not np.array_equal(link2[:, 1:3], link1[:, 1:3]):
-        t = int(np.flatnonzero(np.any(link2[:, 1:3] != link1[:, 1:3], axis=1))[0])
-        raise ValueError(
-            f"{paths[3]}: throat {t + 1} joins pores {link2[t, 1:3].astype(int).tolist()}, "
-            f"but {paths[2].name} says {link1[t, 1:3].astype(int).tolist()}"
-        )
     outside = (pores < -1) | (pores > n)
     if outside.any():
         t = int(np.flatnonzero(outside.any(axis=1))[0])
         raise ValueError(
             f"{paths[2]}, line {int(link1_lines[t])}: pores {pores[t].tolist()} outside "
             f"1..{n} (-1: inlet, 0: outlet reservoir)"
+        )
+    if not np.array_equal(link2[:, 1:3], link1[:, 1:3]):
+        t = int(np.flatnonzero(np.any(link2[:, 1:3] != link1[:, 1:3], axis=1))[0])
+        raise ValueError(
+            f"{paths[3]}: throat {t + 1} joins pores {link2[t, 1:3].astype(int).tolist()}, "
+            f"but {paths[2].name} says {link1[t, 1:3].astype(int).tolist()}"
         )
     _check_degree(paths, pores, degree, node1_lines)
     inner = np.all(pores > 0, axis=1)
@@ -556,7 +557,7 @@ def _check_index(path: Path, index: np.ndarray, lines: np.ndarray) -> None:
     if wrong.any():
         k = int(np.flatnonzero(wrong)[0])
         raise ValueError(
-            f"{path}, line {int(lines[k])}: index {index[k]!r}, expected {k + 1} "
+            f"{path}, line {int(lines[k])}: index {index[k]:g}, expected {k + 1} "
             "(rows numbered 1, 2, ... in order)"
         )
 
