@@ -149,8 +149,9 @@ class NetworkLattice(Lattice):
         if self.n_throats == 0:
             return 0.0
         tp = self._throats
-        d = np.linalg.norm(self._coords[tp[:, 1]] - self._coords[tp[:, 0]], axis=1)
-        return 0.5 * float(np.median(d))
+        squared = np.sum((self._coords[tp[:, 1]] - self._coords[tp[:, 0]]) ** 2, axis=1)
+        # the median distance (for an even count, the root mean square of the middle two)
+        return 0.5 * math.sqrt(float(np.median(squared)))
 
     def _face(self, face: str) -> np.ndarray:
         axis, side = FACES[face]
