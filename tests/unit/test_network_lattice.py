@@ -408,3 +408,41 @@ def test_missing_statoil_files_are_named(tmp_path):
     (tmp_path / "net_link2.dat").unlink()
     with pytest.raises(ConfigError, match=r"lattice.file = .*missing: net_link2\.dat"):
         load_scene(scene(node1, "inlet"))
+
+
+# -- files written by OpenPNM and PoreSpy themselves ------------------------------------------
+
+REFERENCE = Path(__file__).resolve().parents[1] / "data" / "networks"
+
+
+def test_an_openpnm_network_runs():
+    """OpenPNM 3's Cubic with its spheres-and-cylinders geometry: throat.diameter, and
+    throat.spacing (its centre-to-centre length) as the total length."""
+    path = REFERENCE / "openpnm-cubic.npz"
+    with np.load(path) as data:
+        arrays = {key: data[key] for key in data.files}
+    lat = lattice(path)
+    assert lat.dimension == 2 and lat.n_pores == 48 and lat.n_throats == 82
+    np.testing.assert_array_equal(lat.initial_apertures, arrays["throat.diameter"] / 2 / A)
+    np.testing.assert_array_equal(lat.throat_lengths, arrays["throat.spacing"] / A)
+    assert lat.throat_factors == (math.pi, 0.125)  # no shape factor: cylinders
+    assert {"pore.left", "pore.right", "pore.xmin", "pore.surface"} <= set(lat.labels)
+    fluid = {"kind": "viscous", "capillary_number": 1e-3}
+    data = run(scene(path, "pore.left", fluid, outlet="pore.right"))
+    assert data.drained[arrays["pore.right"]].any() and data.summary["volume_balance_error"] < 1e-10
+
+
+def test_a_porespy_network_runs():
+    """PoreSpy's snow2: float32 throat.inscribed_diameter, throat.total_length, 3-D, only the
+    label pore.all; injection at a face."""
+    path = REFERENCE / "porespy-snow2.npz"
+    with np.load(path) as data:
+        arrays = {key: data[key] for key in data.files}
+    lat = lattice(path)
+    assert lat.dimension == 3 and lat.labels.keys() == {"pore.all"}
+    r = arrays["throat.inscribed_diameter"]
+    assert r.dtype == np.float32
+    np.testing.assert_array_equal(lat.initial_apertures, r.astype(np.float64) / 2 / A)
+    np.testing.assert_array_equal(lat.pore_volumes, arrays["pore.volume"] / A**3)
+    data = run(scene(path, "x-"), stop={"at": "complete"})
+    assert data.drained.sum() > lat.sites("x-").sum()

@@ -15,7 +15,6 @@ from typing import Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 from porenet.builtin.lattices.network_files import (
-    LENGTH_KEYS,
     SHAPE_FACTOR_KEY,
     NetworkHeader,
     describe,
@@ -54,9 +53,10 @@ class NetworkLatticeConfig(ModelConfig):
         "total",
         validate_default=True,
         description="Length of a throat, over which it conducts and holds fluid: 'total', "
-        "pore centre to pore centre as the file gives it (throat.total_length; Statoil: "
-        "link1's length), 'throat', the throat's own part (throat.length; Statoil: link2's "
-        "throat length), or 'centres', the distance between the two pore centres.",
+        "pore centre to pore centre as the file gives it (throat.total_length, else OpenPNM "
+        "3's throat.spacing; Statoil: link1's length), 'throat', the throat's own part "
+        "(throat.length; Statoil: link2's throat length), or 'centres', the distance between "
+        "the two pore centres.",
     )
     cross_sections: Literal["auto", "circle"] = Field(
         "auto",
@@ -102,7 +102,7 @@ class NetworkLatticeConfig(ModelConfig):
     def _has_length(cls, value: str, info: ValidationInfo) -> str:
         header = _header(info)
         if header is not None and not header.has_length(value):
-            raise ValueError(missing_length(header.path, LENGTH_KEYS[value], value))
+            raise ValueError(missing_length(header.path, value))
         return value
 
     @field_validator("entry_pressure")

@@ -5,7 +5,8 @@ Two formats:
 
 * an OpenPNM or PoreSpy network dict saved with ``numpy.savez`` (``.npz``): arrays named
   ``pore.coords``, ``throat.conns``, ``throat.inscribed_diameter`` or ``throat.diameter``,
-  ``throat.total_length`` or ``throat.length``, ``pore.volume`` (or PoreSpy's
+  ``throat.total_length`` (OpenPNM 3: ``throat.spacing``) or ``throat.length``,
+  ``pore.volume`` (or PoreSpy's
   ``pore.region_volume``), optionally ``throat.shape_factor``, and boolean ``pore.<name>``
   arrays, the labels;
 * the Statoil format of pnextract and pnflow: ``<prefix>_node1.dat``, ``_node2.dat``,
@@ -39,8 +40,12 @@ import numpy as np
 RADIUS_KEYS = ("throat.inscribed_diameter", "throat.diameter")
 #: Pore volumes, in order of preference (``pore.region_volume``: PoreSpy's ``snow2``).
 VOLUME_KEYS = ("pore.volume", "pore.region_volume")
-#: The array of each ``throat_length`` setting (``"centres"`` is computed from the coords).
-LENGTH_KEYS = {"total": "throat.total_length", "throat": "throat.length"}
+#: The arrays of each ``throat_length`` setting, in order of preference (``"centres"`` is
+#: computed from the coords): OpenPNM 3 calls the centre-to-centre length ``throat.spacing``.
+LENGTH_KEYS = {
+    "total": ("throat.total_length", "throat.spacing"),
+    "throat": ("throat.length",),
+}
 SHAPE_FACTOR_KEY = "throat.shape_factor"
 COORDS_KEY = "pore.coords"
 CONNS_KEY = "throat.conns"
@@ -130,7 +135,9 @@ class NetworkHeader:
 
     def has_length(self, setting: str) -> bool:
         """Whether the file gives the throat lengths of a ``throat_length`` setting."""
-        return self.format == "statoil" or setting == "centres" or LENGTH_KEYS[setting] in self.keys
+        if self.format == "statoil" or setting == "centres":
+            return True
+        return any(key in self.keys for key in LENGTH_KEYS[setting])
 
 
 # -- finding the files ----------------------------------------------------------------------
@@ -237,7 +244,7 @@ def _describe_npz(path: Path) -> NetworkHeader:
     n, m = _npz_sizes(path, heads)
     _first_key(path, heads, RADIUS_KEYS, (m,), "the throat radii")
     _first_key(path, heads, VOLUME_KEYS, (n,), "the pore volumes")
-    for key in (*LENGTH_KEYS.values(), SHAPE_FACTOR_KEY):
+    for key in (*LENGTH_KEYS["total"], *LENGTH_KEYS["throat"], SHAPE_FACTOR_KEY):
         if key in heads and heads[key][0] != (m,):
             raise ValueError(f"{path}: {key!r} has shape {heads[key][0]}, expected ({m},)")
     labels = []
@@ -332,7 +339,8 @@ def read_network(path: Path, throat_length: str = "total") -> NetworkData:
         The ``.npz`` file, one of the Statoil files or their prefix.
     throat_length : {"total", "throat", "centres"}
         Which length is the throat's: pore centre to pore centre as the file gives it
-        (``throat.total_length``; Statoil: link1's length), the throat's own part
+        (``throat.total_length``, else ``throat.spacing``; Statoil: link1's length), the
+        throat's own part
         (``throat.length``; Statoil: link2's throat length), or the distance between the two
         pore centres.
 
@@ -366,9 +374,10 @@ def read_npz(path: Path, throat_length: str = "total") -> NetworkData:
         if throat_length == "centres":
             length = centre_distances(path, coords, conns)
         else:
-            key = LENGTH_KEYS[throat_length]
-            if key not in keys:
-                raise ValueError(missing_length(path, key, throat_length))
+            found = [k for k in LENGTH_KEYS[throat_length] if k in keys]
+            if not found:
+                raise ValueError(missing_length(path, throat_length))
+            key = found[0]
             length = checked_floats(path, key, data[key], positive=True)
         labels = {name: np.asarray(data[name], dtype=bool) for name in header.labels}
     if _flat(coords):
@@ -376,9 +385,11 @@ def read_npz(path: Path, throat_length: str = "total") -> NetworkData:
     return NetworkData(coords, conns, radius, length, shape_factor, volume, labels, str(path))
 
 
-def missing_length(path: Path, key: str, setting: str) -> str:
+def missing_length(path: Path, setting: str) -> str:
+    """The message for a file without the throat lengths of a ``throat_length`` setting."""
+    keys = " or ".join(map(repr, LENGTH_KEYS[setting]))
     return (
-        f"{path}: no array {key!r} for throat_length = {setting!r}; give it, or choose "
+        f"{path}: no array {keys} for throat_length = {setting!r}; give it, or choose "
         "throat_length = 'centres' (the distance between the pore centres)"
     )
 
