@@ -446,3 +446,10 @@ def test_a_porespy_network_runs():
     np.testing.assert_array_equal(lat.pore_volumes, arrays["pore.volume"] / A**3)
     data = run(scene(path, "x-"), stop={"at": "complete"})
     assert data.drained.sum() > lat.sites("x-").sum()
+
+
+def test_a_truncated_npz_is_named(tmp_path):
+    path = tmp_path / "cut.npz"
+    path.write_bytes(EXAMPLE.read_bytes()[:20_000])
+    with pytest.raises(ConfigError, match=r"lattice.file = .*cut\.npz is not a readable .npz"):
+        load_scene(scene(path))
