@@ -13,6 +13,7 @@ from porenet.builtin.classifiers.config import RulesClassifierConfig, TheoryClas
 from porenet.builtin.couplers.config import PressureApertureConfig
 from porenet.builtin.fluids.config import InvasionPercolationConfig, ViscousConfig
 from porenet.builtin.lattices.config import CubicLatticeConfig, SquareLatticeConfig
+from porenet.builtin.lattices.network_config import NetworkLatticeConfig
 from porenet.builtin.observers.config import ProgressConfig, SnapshotsConfig
 from porenet.builtin.solids.config import HertzConfig
 from porenet.builtin.solids.rigid import RigidConfig
@@ -23,6 +24,7 @@ from porenet.hooks import Register, hookimpl
 def porenet_register_lattices(register: Register) -> None:
     register(SquareLatticeConfig, "porenet.builtin.lattices.square:SquareLattice")
     register(CubicLatticeConfig, "porenet.builtin.lattices.cubic:CubicLattice")
+    register(NetworkLatticeConfig, "porenet.builtin.lattices.network:NetworkLattice")
 
 
 @hookimpl

@@ -33,7 +33,7 @@ class BareConfig(SquareLatticeConfig):
 def test_builtins_registered_through_hooks(monkeypatch):
     monkeypatch.setenv("PORENET_PLUGINS", "")  # installed third-party plugins are not ours
     reg = build_registry(strict=True)
-    assert reg.kinds("lattice") == ["cubic", "square"]
+    assert reg.kinds("lattice") == ["cubic", "network", "square"]
     assert "invasion-percolation" in reg.kinds("fluid")
     assert reg.get("solid", "rigid").implementation is None
     assert all(e.package == "porenet" for e in reg)
