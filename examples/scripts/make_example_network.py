@@ -56,9 +56,6 @@ interfacial_tension = 0.07  # gamma (N/m)
 
 [stop]
 at = "breakthrough"
-
-[classifier]
-kind = "none"   # the pattern classifier is calibrated on the square lattice only
 """
 
 

@@ -22,6 +22,7 @@ from porenet.builtin.lattices.network_files import (
     missing_length,
 )
 from porenet.config.base import ModelConfig
+from porenet.core.extent import LatticeExtent
 from porenet.core.sites import FACES, face_of
 
 #: The faces of a 2-D network's bounding box.
@@ -131,6 +132,22 @@ class NetworkLatticeConfig(ModelConfig):
         known to be 2-D) and the file's labels."""
         header = describe(self.file)
         return ("centre", *_faces(header), "left-edge", *header.labels)
+
+
+    def extent(self) -> LatticeExtent:
+        """The size the plan and the cost model read (:mod:`porenet.core.extent`), from the
+        file's header: pores and throats exactly; the side and the outlet cross-section as
+        those of a cubic (or square) lattice of as many pores, an estimate (the file's
+        geometry is known only once it is read)."""
+        header = describe(self.file)
+        d = header.dimension or 3
+        side = max(1, round(header.n_pores ** (1.0 / d)))
+        face = side ** (d - 1)
+        return LatticeExtent(
+            pores=header.n_pores, throats=header.n_throats, dimension=d, side=side,
+            outlet_links={"centre": 2 * d * face, "face": face}, canonical_grid=False,
+            disorder=None, size_field=f"lattice.file = {self.file.name}",
+        )  # fmt: skip
 
 
 def _header(info: ValidationInfo) -> NetworkHeader | None:
