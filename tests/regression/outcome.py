@@ -35,11 +35,13 @@ def outcome(data: Any) -> dict[str, np.ndarray]:
     return out
 
 
-def differences(stored: dict[str, np.ndarray], now: dict[str, np.ndarray]) -> list[str]:
+def differences(
+    stored: dict[str, np.ndarray], now: dict[str, np.ndarray], exact: bool = False
+) -> list[str]:
     """What differs between a stored outcome and a new one: integer, boolean and text arrays
     exactly, floats to round-off (relative 1e-12 of the array's largest magnitude; the
     refactorings this suite guards against change no arithmetic, and a change of the
-    summation order would show as ~1e-16)."""
+    summation order would show as ~1e-16), or to the bit with ``exact``."""
     problems = []
     for key in sorted(set(stored) | set(now)):
         if key not in now or key not in stored:
@@ -51,7 +53,8 @@ def differences(stored: dict[str, np.ndarray], now: dict[str, np.ndarray]) -> li
             problems.append(f"{key}: shape {a.shape} stored, {b.shape} now")
         elif a.dtype.kind == "f":
             scale = float(np.max(np.abs(a[np.isfinite(a)]), initial=0.0)) or 1.0
-            close = np.isclose(a, b, rtol=0.0, atol=1e-12 * scale, equal_nan=True)
+            tolerance = 0.0 if exact else 1e-12 * scale
+            close = np.isclose(a, b, rtol=0.0, atol=tolerance, equal_nan=True)
             if not np.all(close):
                 worst = float(np.nanmax(np.abs(a - b))) / scale
                 problems.append(f"{key}: {int(np.sum(~close))} values differ (worst {worst:.2e})")
