@@ -148,15 +148,22 @@ AperturesFile = Annotated[
 ]
 
 
-def resolve_input_file(value: Path | None, info: ValidationInfo, what: str) -> Path | None:
-    """An input file of a lattice config, relative to the scene file's directory (the
-    validation context's ``base_dir``), checked to exist; ``what`` names it in the errors."""
-    if value is None:
-        return None
+def scene_relative(value: Path | str, info: ValidationInfo) -> Path:
+    """A path given in a scene, relative to the scene file's directory (the validation
+    context's ``base_dir``) unless absolute; ``~`` expanded."""
     base = (info.context or {}).get("base_dir")
     path = Path(value).expanduser()
     if not path.is_absolute() and base is not None:
         path = Path(base) / path
+    return path
+
+
+def resolve_input_file(value: Path | None, info: ValidationInfo, what: str) -> Path | None:
+    """An input file of a lattice config, relative to the scene file's directory
+    (:func:`scene_relative`), checked to exist; ``what`` names it in the errors."""
+    if value is None:
+        return None
+    path = scene_relative(value, info)
     if path.is_dir():
         raise ValueError(f"{path} is a directory; give the {what}")
     if not path.is_file():

@@ -14,6 +14,7 @@ from typing import Literal
 
 from pydantic import Field, ValidationInfo, field_validator
 
+from porenet.builtin.lattices.config import scene_relative
 from porenet.builtin.lattices.network_files import (
     SHAPE_FACTOR_KEY,
     NetworkHeader,
@@ -88,10 +89,7 @@ class NetworkLatticeConfig(ModelConfig):
     @field_validator("file")
     @classmethod
     def _resolve(cls, value: Path, info: ValidationInfo) -> Path:
-        base = (info.context or {}).get("base_dir")
-        path = Path(value).expanduser()
-        if not path.is_absolute() and base is not None:
-            path = Path(base) / path
+        path = scene_relative(value, info)
         if path.is_dir():
             raise ValueError(f"{path} is a directory; give the .npz file or a Statoil file")
         _, found = locate(path)
@@ -132,7 +130,6 @@ class NetworkLatticeConfig(ModelConfig):
         known to be 2-D) and the file's labels."""
         header = describe(self.file)
         return ("centre", *_faces(header), "left-edge", *header.labels)
-
 
     def extent(self) -> LatticeExtent:
         """The size the plan and the cost model read (:mod:`porenet.core.extent`), from the
