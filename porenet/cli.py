@@ -14,6 +14,8 @@ import json
 import logging
 import sys
 import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -415,18 +417,58 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)  # bad usage: argparse prints it and exits with 2
     level = logging.WARNING - 10 * min(args.verbose, 2)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
-    try:
-        return int(COMMANDS[args.command](args))
-    except Exception as exc:
-        if args.traceback and not isinstance(exc, BrokenPipeError):
-            raise
-        from porenet.cli_checks import report
+    with _interrupts() as interrupted:
+        try:
+            return int(COMMANDS[args.command](args))
+        except Exception as exc:
+            if interrupted():  # an error that followed Ctrl-C is its consequence
+                return _interrupted(args.command)
+            if args.traceback and not isinstance(exc, BrokenPipeError):
+                raise
+            from porenet.cli_checks import report
 
-        status, message = report(exc, args.command)
-        if message is not None:
-            print(message, file=sys.stderr)
-        return status
-    except KeyboardInterrupt:
-        written = "; no run file was written" if args.command in ("run", "resume") else ""
-        print(f"porenet {args.command}: interrupted{written}", file=sys.stderr)
-        return 130
+            status, message = report(exc, args.command)
+            if message is not None:
+                print(message, file=sys.stderr)
+            return status
+        except KeyboardInterrupt:
+            return _interrupted(args.command)
+
+
+def _interrupted(command: str) -> int:
+    written = "; no run file was written" if command in ("run", "resume") else ""
+    print(f"porenet {command}: interrupted{written}", file=sys.stderr)
+    return 130
+
+
+@contextmanager
+def _interrupts() -> Iterator[Callable[[], bool]]:
+    """Notes whether Ctrl-C (SIGINT) arrived, and raises KeyboardInterrupt as Python does.
+
+    A KeyboardInterrupt raised while numba compiles can land in a callback that LLVM calls
+    (through ctypes, which prints and drops exceptions raised in callbacks): the compilation
+    then fails later with an unrelated error (numba's "no compiled object yet"). With the
+    note, any error after Ctrl-C is reported as the interruption (exit 130), not as an
+    internal error."""
+    import signal
+    import threading
+
+    received = [False]
+
+    def handler(signum: int, frame: Any) -> None:
+        received[0] = True
+        raise KeyboardInterrupt
+
+    # signals reach only the main thread; an ignored SIGINT (a job started with & by a
+    # script) stays ignored
+    if (
+        threading.current_thread() is not threading.main_thread()
+        or signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    ):
+        yield lambda: False
+        return
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield lambda: received[0]
+    finally:
+        signal.signal(signal.SIGINT, previous)

@@ -243,7 +243,9 @@ def _kernels_compiled() -> None:
     ``RUN_LIMIT`` seconds would land inside the compiler, not in the run it means to stop: an
     interrupt there can leave numba's half-built function behind, and the next call fails
     with numba's "no compiled object yet" (found by CI on a clean checkout, 2026-12-03;
-    docs/roadmap.md). That case is a known gap, not what this property probes."""
+    docs/roadmap.md). ``porenet`` itself reports an error that follows a real Ctrl-C as the
+    interruption, but these examples are interrupted in-process by a timer, and the
+    half-built function would stay in this process: not what this property probes."""
     status, err = _cli(["compile"])
     assert status == 0, err
 

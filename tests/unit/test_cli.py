@@ -182,3 +182,51 @@ def test_output_never_destroys_a_file_that_is_not_a_run_file(write_scene, tmp_pa
     assert main(["run", scene, "-q", "-o", str(tmp_path / "absent" / "x.h5")]) == 2
     assert main(["run", scene, "-q", "-o", str(tmp_path)]) == 2
     assert "is a directory" in capsys.readouterr().err
+
+
+def test_an_error_that_follows_ctrl_c_is_reported_as_the_interruption(monkeypatch, capsys):
+    """Numba can drop a KeyboardInterrupt raised inside an LLVM callback and fail later with
+    an unrelated error ("no compiled object yet"): after Ctrl-C, that is exit 130."""
+    import contextlib
+    import os
+    import signal
+
+    import porenet.cli as cli
+
+    def swallowed_then_failed(args):
+        with contextlib.suppress(KeyboardInterrupt):  # as ctypes drops it in a callback
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C
+        raise RuntimeError("no compiled object yet for <Library 'kernel'>")
+
+    monkeypatch.setitem(cli.COMMANDS, "validate", swallowed_then_failed)
+    assert main(["validate", "scene.toml"]) == 130
+    assert "porenet validate: interrupted" in capsys.readouterr().err
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+
+
+def test_ctrl_c_during_a_first_compilation_exits_130(tmp_path):
+    """Ctrl-C at several moments of a first viscous run (empty kernel cache, so numba is
+    compiling): always exit 130 and "interrupted", never an internal error."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    scene = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "fig1b.toml"
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    for delay in (1.0, 2.5, 4.0):
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "porenet", "run", str(scene), "--set", "lattice.n=30",
+             "-o", str(tmp_path / "run.h5")],
+            stderr=subprocess.PIPE, text=True, env=env,
+        )  # fmt: skip
+        time.sleep(delay)
+        proc.send_signal(signal.SIGINT)
+        err = proc.communicate(timeout=120)[1]
+        if proc.returncode == 0:  # finished before the interrupt (a warm machine)
+            continue
+        assert proc.returncode == 130, (delay, err[-800:])
+        assert "interrupted" in err and "internal error" not in err
+        assert not (tmp_path / "run.h5").exists()
