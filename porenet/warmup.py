@@ -70,19 +70,26 @@ WARM_UPS: tuple[WarmUp, ...] = (
 
 
 def warm_up(warm: WarmUp) -> float:
-    """Run one warm-up scene; return the seconds this process spent compiling for it."""
+    """Run one warm-up scene; return the seconds this process spent compiling for it.
+
+    A viscous scene runs twice: as its tiny lattice does (the single-threaded variants of
+    the kernels, :meth:`porenet.builtin.fluids.viscous.ViscousDrainage.sized`) and as a
+    lattice large enough for threads does (the full kernels, with their parallel loops)."""
     from porenet.builtin.fluids.local_steps import LocalSteps
+    from porenet.builtin.fluids.viscous import ViscousDrainage
     from porenet.simulation import Simulation
 
     w = watch()
     before = w.seconds
-    gain = LocalSteps.gain
+    gain, full = LocalSteps.gain, ViscousDrainage.full_kernels
     try:
         if warm.macro_steps:
             LocalSteps.gain = float("inf")
-        Simulation.from_scene(warm.scene).run()
+        for kernels in (False, True) if warm.scene["fluid"]["kind"] == "viscous" else (False,):
+            ViscousDrainage.full_kernels = kernels
+            Simulation.from_scene(warm.scene).run()
     finally:
-        LocalSteps.gain = gain
+        LocalSteps.gain, ViscousDrainage.full_kernels = gain, full
     return w.seconds - before
 
 

@@ -10,6 +10,12 @@ for it (a no-op without numba), and :func:`trailing_zeros` is the hardware count
 zero bits of a non-zero 64-bit word (a de Bruijn multiplication where numba's intrinsic is
 missing). Use them inside kernels.
 
+Calls between kernels: each kernel is two numba dispatchers of the same function, the one
+Python calls (with numba's CPython wrapper, which converts Python objects to machine types)
+and a twin that other kernels call (without it, and without the C-callable wrapper): a kernel
+that only kernels call never builds the wrappers, which are a fifth of a first run's compile
+time (docs/performance.md, "First run"). The machine code of a call is the same either way.
+
 Threads: :func:`pjit` compiles a kernel whose ``prange`` loops run on several threads,
 :func:`serial_and_parallel` one loop both ways (callers pick by :func:`threaded_box`), and
 :func:`set_threads` / :func:`threads` set and read how many threads they use (the results do
@@ -35,6 +41,7 @@ try:
     # start it when it is loaded from the on-disk cache (numba issue #8578, open): its first
     # call would then crash the process.
     numba.get_num_threads()
+    from porenet.kernels import link_only
 except ImportError:  # pragma: no cover - numba is a core dependency
     numba = None
     HAVE_NUMBA = False
@@ -68,19 +75,74 @@ def njit(
         options["_nrt"] = False
     if reassociate:
         options["fastmath"] = {"reassoc", "nsz"}
-    return _without_literal_variants(numba.njit(**options)(func))
+    return _kernel(func, options)
 
 
-def _without_literal_variants(dispatcher: Any) -> Any:
-    """Compile ``dispatcher`` for its arguments' plain types when a kernel calls it with
-    constants: numba would compile one variant per literal value (``f(.., True)`` and
-    ``f(.., False)``, ``f(0, ..)`` and ``f(n, ..)``), each with all its callees: 22 of the
-    169 compilations of a first viscous run, ~10 % of its compile time, for the same bits
-    (docs/performance.md, "First run"). No kernel relies on a literal argument. Signed
-    integer scalars narrower than 64 bits are widened likewise (the call converts them)."""
+#: Options of the twin that kernels call: no CPython wrapper (the C-callable one, for passing
+#: a kernel to numba's first-class function types, which porenet does not use, is left out of
+#: every kernel: ``no_cfunc_wrapper``).
+_CALLEE_ONLY = {"no_cpython_wrapper": True}
+
+
+def _kernel(func: Callable[..., Any], options: dict[str, Any]) -> Any:
+    """``numba.njit(**options)(func)``, whose calls from other kernels go to a twin compiled
+    without numba's wrappers (see the module's docstring) and for plain argument types
+    (:func:`_without_literal_variants`). Python calls the returned dispatcher as usual.
+
+    How: numba types a call from a kernel by asking the callee's dispatcher for a call
+    template (``get_call_template``, which compiles it for the argument types) and lowers it
+    through the dispatcher's ``get_overload``; both are routed to the twin, a dispatcher of
+    its own under the name ``<name>_callee``, so that its on-disk cache entry (keyed by the
+    function's name, not by the options) never serves a Python call, which would need the
+    wrapper (calling a function compiled without it from Python crashes the process)."""
+    python_side = numba.njit(**options)(func)
+    callee_options = dict(options, **_CALLEE_ONLY)
+    if link_only.PIPELINE is not None:
+        callee_options["pipeline_class"] = link_only.PIPELINE
+    callee = numba.njit(**callee_options)(_twin(func, "_callee"))
+    specialise = _without_literal_variants(callee.get_call_template)
+    python_side.get_call_template = specialise
+    python_side.get_overload = callee.get_overload
+    _OPTIONS[id(python_side)] = (python_side, options)
+    return python_side
+
+
+#: id of each kernel's dispatcher -> (the dispatcher, its numba options), for
+#: :func:`single_threaded`
+_OPTIONS: dict[int, tuple[Any, dict[str, Any]]] = {}
+#: id of each parallel twin -> its serial twin (:func:`serial_and_parallel`)
+_SERIAL_TWIN: dict[int, Any] = {}
+#: id of a kernel -> its single-threaded variant (the kernel itself if it reaches no
+#: parallel twin)
+_SINGLE: dict[int, Any] = {}
+
+
+def _twin(
+    func: Callable[..., Any], suffix: str, namespace: dict[str, Any] | None = None
+) -> Callable[..., Any]:
+    """A copy of the Python function ``func`` (same code, closure and, unless ``namespace`` is
+    given, globals) named ``func.__name__ + suffix``: numba caches each under its own name."""
+    twin = FunctionType(
+        func.__code__, func.__globals__ if namespace is None else namespace,
+        func.__name__ + suffix, func.__defaults__, func.__closure__,
+    )  # fmt: skip
+    twin.__qualname__ = func.__qualname__ + suffix
+    twin.__module__ = func.__module__
+    twin.__doc__ = func.__doc__
+    twin.__annotations__ = dict(func.__annotations__)
+    twin.__kwdefaults__ = func.__kwdefaults__
+    return twin
+
+
+def _without_literal_variants(specialise: Callable[[Any, Any], Any]) -> Callable[[Any, Any], Any]:
+    """A dispatcher's ``get_call_template`` that compiles for its arguments' plain types when a
+    kernel calls it with constants: numba would compile one variant per literal value
+    (``f(.., True)`` and ``f(.., False)``, ``f(0, ..)`` and ``f(n, ..)``), each with all its
+    callees: 22 of the 169 compilations of a first viscous run, ~10 % of its compile time, for
+    the same bits (docs/performance.md, "First run"). No kernel relies on a literal argument.
+    Signed integer scalars narrower than 64 bits are widened likewise (the call converts
+    them)."""
     from numba.core import types
-
-    specialise = dispatcher.get_call_template
 
     def plain(arg: Any) -> Any:
         arg = types.unliteral(arg)
@@ -91,8 +153,7 @@ def _without_literal_variants(dispatcher: Any) -> Any:
     def get_call_template(args: Any, kws: Any) -> Any:
         return specialise(tuple(plain(a) for a in args), {k: plain(v) for k, v in kws.items()})
 
-    dispatcher.get_call_template = get_call_template
-    return dispatcher
+    return get_call_template
 
 
 #: Boxes of at least this many pores are swept by several threads; below, starting them
@@ -121,7 +182,7 @@ def pjit(func: Callable[..., Any]) -> Any:
     threads to the last bit."""
     if not HAVE_NUMBA:
         return func
-    return _without_literal_variants(numba.njit(parallel=True, cache=True, nogil=True)(func))
+    return _kernel(func, {"parallel": True, "cache": True, "nogil": True, "no_cfunc_wrapper": True})
 
 
 def serial_and_parallel(func: Callable[..., Any]) -> tuple[Any, Any]:
@@ -132,15 +193,60 @@ def serial_and_parallel(func: Callable[..., Any]) -> tuple[Any, Any]:
     serial = njit(func)
     if not HAVE_NUMBA:
         return serial, serial
-    twin = FunctionType(
-        func.__code__, func.__globals__, func.__name__ + "_parallel", func.__defaults__,
-        func.__closure__,
-    )  # fmt: skip
-    twin.__qualname__ = func.__qualname__ + "_parallel"
-    twin.__module__ = func.__module__
-    twin.__doc__ = func.__doc__
-    twin.__annotations__ = dict(func.__annotations__)
-    return serial, pjit(twin)
+    parallel = pjit(_twin(func, "_parallel"))
+    _SERIAL_TWIN[id(parallel)] = serial
+    return serial, parallel
+
+
+def single_threaded(kernel: Any) -> Any:
+    """``kernel`` with every parallel twin it reaches, itself or through the kernels it
+    calls, replaced by its serial twin (:func:`serial_and_parallel`); ``kernel`` itself if it
+    reaches none.
+
+    For a lattice of fewer than :data:`PARALLEL_MIN` pores, where no box is ever swept by
+    several threads: the results are the same (the same serial loops run), but a first run
+    does not compile the parallel twins, which it would never call (a quarter of the
+    compilation of a small viscous run before this; docs/performance.md, "First run").
+
+    How: a variant is a copy of the kernel's function (same code) whose globals map the names
+    of its parallel callees to their serial twins and of its other kernel callees to their
+    variants; numba compiles and caches it under the name ``<name>_1thread``. Only callees
+    named as globals of the kernel's module are seen (porenet's kernels call each other so)."""
+    if not HAVE_NUMBA:
+        return kernel
+    known = _SINGLE.get(id(kernel))
+    if known is not None:
+        return known
+    func = kernel.py_func
+    substitutes: dict[str, Any] = {}
+    for name in _global_names(func.__code__):
+        value = func.__globals__.get(name)
+        if value is None or value is kernel:
+            continue
+        if id(value) in _SERIAL_TWIN:
+            substitutes[name] = _SERIAL_TWIN[id(value)]
+        elif id(value) in _OPTIONS:
+            variant = single_threaded(value)
+            if variant is not value:
+                substitutes[name] = variant
+    if not substitutes:
+        _SINGLE[id(kernel)] = kernel
+        return kernel
+    namespace = dict(func.__globals__)
+    namespace.update(substitutes)
+    variant = _kernel(_twin(func, "_1thread", namespace), _OPTIONS[id(kernel)][1])
+    _SINGLE[id(kernel)] = variant
+    return variant
+
+
+def _global_names(code: Any) -> set[str]:
+    """The names a code object (and the code objects nested in it) loads as globals or
+    attributes (a superset of the globals it reads)."""
+    names = set(code.co_names)
+    for const in code.co_consts:
+        if hasattr(const, "co_names"):
+            names |= _global_names(const)
+    return names
 
 
 def set_threads(count: int | None) -> int:

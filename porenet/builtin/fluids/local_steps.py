@@ -356,7 +356,7 @@ class LocalSteps:
             field = self.sweep_field(nbox)
             step = multirate.CoarseStep(h, m, sources, rates, menisci0, pump0,
                                         self.window_tolerance * tol)  # fmt: skip
-            outflow = multirate.coarse_step(
+            outflow = f.sized(multirate.coarse_step)(
                 field, flow.pressure, win, step, f.rkc.stages, f.rkc.f0, f.rkc.fnew,
                 f.rkc.zero, self._p1, self._ebox,
             )  # fmt: skip

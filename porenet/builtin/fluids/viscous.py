@@ -21,7 +21,7 @@ from porenet.builtin.fluids.config import ViscousConfig, auto_integrator
 from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.interfaces import FluidModel, Lattice
 from porenet.core.state import State
-from porenet.kernels.jit import PARALLEL_MIN, threads
+from porenet.kernels.jit import PARALLEL_MIN, single_threaded, threads
 from porenet.kernels.viscous.state import (
     Conductances,
     Control,
@@ -384,7 +384,7 @@ class ViscousDrainage(FluidModel):
         elif budget > 0 and self.integrator == "rkc":
             status = self._rkc_advance(state, budget, t_end)
         elif budget > 0:
-            status = explicit_advance(
+            status = self.sized(explicit_advance)(
                 self.network, self.conductances, self.flow, self.front, self.records,
                 self.scratch, self.injection, self.rules, self._stops(budget, t_end),
                 self.window_off,
@@ -448,6 +448,19 @@ class ViscousDrainage(FluidModel):
             and self.step_limit is None
         )
 
+    #: Call the full kernels whatever the lattice (:meth:`sized`): ``porenet compile`` sets
+    #: it to compile, on its tiny scenes, what lattices large enough for threads call.
+    full_kernels = False
+
+    def sized(self, kernel: Any) -> Any:
+        """``kernel``, or on a lattice where no box can reach
+        :data:`~porenet.kernels.jit.PARALLEL_MIN` pores (fewer pores, or not a square grid)
+        its single-threaded variant (:func:`porenet.kernels.jit.single_threaded`): the same
+        loops run, but a first run does not compile parallel ones it would never call."""
+        if self.full_kernels or (self.network.grid_n > 0 and self.lattice.n_pores >= PARALLEL_MIN):
+            return kernel
+        return single_threaded(kernel)
+
     # -- for local time steps (porenet.builtin.fluids.local_steps) --------------------------
     def rkc_steps(
         self,
@@ -470,7 +483,7 @@ class ViscousDrainage(FluidModel):
             throats, slots, counters = window_front
             flow = flow._replace(counters=counters)
             front = front._replace(throats=throats, throat_slot=slots)
-        return rkc_advance(
+        return self.sized(rkc_advance)(
             self.network, self.conductances, flow, front, self.records, self.scratch,
             self.injection, self.rules, self._stops(budget, t_end, step_budget),
             self.window_off if window is None else window, self.rkc,
