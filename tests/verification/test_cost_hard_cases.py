@@ -22,6 +22,7 @@ SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
 FIG1B = str(SCENES / "fig1b.toml")
 FIG5 = str(SCENES / "fig5.toml")
 IP = str(SCENES / "ip-400.toml")
+CUBIC = str(SCENES / "cubic-viscous.toml")
 FACTOR = 3.0
 
 #: name -> (scene, overrides); all within the model's stated factor.
@@ -38,6 +39,8 @@ HOLDS = {
     "Ca = 1e2": (FIG1B, ["lattice.n=30", "fluid.capillary_number=1e2"]),
     "Ca = 1e4": (FIG1B, ["lattice.n=15", "fluid.capillary_number=1e4"]),
     "N_f = 1e-6": (FIG5, ["lattice.n=30", "solid.fracturing_number=1e-6"]),
+    "3-D, centre": (CUBIC, ["lattice.shape=[12, 12, 12]"]),
+    "3-D, from a face": (CUBIC, ["lattice.shape=[12, 12, 12]", "injection.at=z-"]),
 }  # fmt: skip
 
 

@@ -42,6 +42,7 @@ from porenet.kernels.jit import njit
 from porenet.kernels.viscous.diffusion import (
     activate,
     copy_rows,
+    csr_copy,
     csr_fluxes,
     csr_update,
     grid_flux,
@@ -322,7 +323,7 @@ def explicit_advance(
             dt_hi = 0.9 * dt * pressure_step / change
         dt_next = dt_max if change == 0.0 else max(dt, 0.9 * dt * pressure_step / change)
         if grid_n == 0:
-            stored, out, largest = csr_update(na, act, dt, p, p_next, flux, vol, g_out)
+            stored, out, largest = csr_update(field, dt, p, p_next, vol)
         else:
             stored, out = grid_sweep(field, dt, vol, p, p_next)
             largest = 0.0
@@ -356,13 +357,12 @@ def explicit_advance(
             elif q > 0.0:
                 ell[f] -= q * dt / area[f]
         if grid_n == 0:
-            for s in range(na):
-                p[act[s]] = p_next[act[s]]
+            csr_copy(field, p_next, p)
         else:
             copy_rows(grid_n, box, p_next, p)
         _unlink(n_on, on_p, head)
         if not windowed:
-            spread(field, counters, drained, p, floor)
+            spread(field, front.settled, counters, drained, p, floor)
         book_step(flow, pump, dt, qsum * dt, stored, out * dt, pnew)
         if not (np.isfinite(pnew) and np.isfinite(stored)):
             counters[Count.WHERE] = -1

@@ -503,7 +503,7 @@ def rkc_advance(
             for _r in range(m):  # (the active pores grow with each spread)
                 now = Sweep(grid_n, box, counters[Count.N_ACTIVE], act, apos, indptr, nbr, thr,
                             g_eff, g_out, inv_vol, fnew, nbox)  # fmt: skip
-                spread(now, counters, drained, p, floor)
+                spread(now, front.settled, counters, drained, p, floor)
             need_f0 = True
         if control == Control.PRESSURE:
             rate = largest / h

@@ -227,6 +227,9 @@ class Front(NamedTuple):
     box : ndarray of int64, shape (4,)
         Grids: the active pores are rows ``[box[0], box[1])`` and columns ``[box[2],
         box[3])``; it grows as the pressure spreads.
+    settled : ndarray of bool, shape (N,)
+        Lists: active pores whose neighbours are all active or drained, which the pressure's
+        spread (:func:`porenet.kernels.viscous.diffusion.spread`) no longer looks at.
     """
 
     throats: np.ndarray
@@ -234,6 +237,7 @@ class Front(NamedTuple):
     pores: np.ndarray
     pore_slot: np.ndarray
     box: np.ndarray
+    settled: np.ndarray
 
 
 class Records(NamedTuple):
@@ -521,6 +525,7 @@ def new_front(n_pores: int, n_throats: int, grid_n: int) -> Front:
         pores=np.zeros(n_pores, dtype=np.int64),
         pore_slot=np.full(n_pores, -1, dtype=np.int64),
         box=box,
+        settled=np.zeros(n_pores, dtype=bool),
     )
 
 

@@ -10,14 +10,17 @@ import pytest
 from porenet.builtin.lattices.config import SquareLatticeConfig
 from porenet.builtin.lattices.square import SquareLattice
 from porenet.kernels.viscous.diffusion import (
+    DENSE_ACTIVE,
+    csr_copy,
     csr_fluxes,
     csr_update,
     grid_flux,
     grid_sweep,
     grow_where_reached,
     refresh_throats,
+    spread,
 )
-from porenet.kernels.viscous.state import Conductances, Network, Sweep
+from porenet.kernels.viscous.state import Conductances, Count, Network, Sweep
 
 
 def grid(n: int, seed: int):
@@ -86,13 +89,88 @@ def test_the_listed_sweep_equals_the_grid_sweep() -> None:
     for k in range(n * n):
         assert flux[k] == pytest.approx(grid_flux(n, box, k, p, g, g_out), rel=1e-13, abs=1e-14)
     p_next = np.zeros(n * n)
-    stored, out, largest = csr_update(n * n, act, 0.05, p, p_next, flux, vol, g_out)
+    stored, out, largest = csr_update(listed._replace(scratch=flux), 0.05, p, p_next, vol)
     grid_next = p.copy()
     field = listed._replace(grid_n=n)
     stored_g, out_g = grid_sweep(field, 0.05, vol, p, grid_next)
     np.testing.assert_allclose(p_next, grid_next, rtol=1e-12, atol=1e-13)
     assert stored == pytest.approx(stored_g, rel=1e-11) and out == pytest.approx(out_g)
     assert largest == pytest.approx(np.max(np.abs(flux / vol)))
+
+
+@pytest.mark.parametrize("share", [0.1, 0.6, 1.0])
+def test_the_listed_sweep_over_some_active_pores_in_any_order(share) -> None:
+    """Active pores listed in a random order, fewer or more than DENSE_ACTIVE of them (the
+    list or the index-order sweep): each pore's flux and new pressure are the reference's,
+    to the bit on the list whichever the order; inactive pores are left alone; the sums
+    agree to round-off; the copy writes the active pores only."""
+    n = 12
+    lat, indptr, nbr, thr, g, g_out, vol = grid(n, 3)
+    rng = np.random.default_rng(5)
+    p = rng.standard_normal(n * n)
+    act = rng.permutation(n * n)[: int(share * n * n)].astype(np.int64)
+    apos = np.full(n * n, -1, np.int64)
+    apos[act] = np.arange(len(act))
+    pores = np.zeros(n * n, np.int64)
+    pores[: len(act)] = act
+    box = np.array([0, n, 0, n], np.int64)
+    field = Sweep(0, box, len(act), pores, apos, indptr, nbr, thr, g, g_out, 1.0 / vol,
+                  np.full(n * n, np.nan), box)  # fmt: skip
+    assert (len(act) >= DENSE_ACTIVE * n * n) == (share > DENSE_ACTIVE)
+    flux = field.scratch
+    csr_fluxes(field, p, flux)
+    on = apos >= 0
+    ref = -g_out * p
+    for t, (a, c) in enumerate(np.asarray(lat.throat_pores)):
+        if on[a] and on[c]:
+            ref[a] += g[t] * (p[c] - p[a])
+            ref[c] += g[t] * (p[a] - p[c])
+    np.testing.assert_allclose(flux[on], ref[on], rtol=1e-13, atol=1e-14)
+    assert np.all(np.isnan(flux[~on]))
+    p_next = np.full(n * n, np.nan)
+    stored, out, largest = csr_update(field, 0.05, p, p_next, vol)
+    np.testing.assert_array_equal(p_next[on], p[on] + 0.05 * (flux[on] / vol[on]))
+    assert np.all(np.isnan(p_next[~on]))
+    assert stored == pytest.approx(np.sum(vol[on] * (p_next[on] - p[on])), rel=1e-12)
+    assert out == pytest.approx(np.sum(g_out[on] * p[on]), rel=1e-12, abs=1e-15)
+    assert largest == np.max(np.abs(flux[on] / vol[on]))
+    copied = np.zeros(n * n)
+    csr_copy(field, p_next, copied)
+    np.testing.assert_array_equal(copied[on], p_next[on])
+    assert np.all(copied[~on] == 0.0)
+
+
+def test_spread_activates_as_before_and_settles_pores() -> None:
+    """The pressure's spread on a list: every undrained neighbour of an active pore above
+    the floor is activated, in the order of the active list, and a pore whose neighbours are
+    then all active or drained is settled and not visited again."""
+    n = 6
+    _, indptr, nbr, thr, g, g_out, vol = grid(n, 1)
+    apos = np.full(n * n, -1, np.int64)
+    pores = np.zeros(n * n, np.int64)
+    counters = np.zeros(len(Count), np.int64)
+    for k in (14, 15):
+        apos[k] = counters[Count.N_ACTIVE]
+        pores[counters[Count.N_ACTIVE]] = k
+        counters[Count.N_ACTIVE] += 1
+    drained = np.zeros(n * n, bool)
+    drained[8] = True  # above pore 14
+    p = np.zeros(n * n)
+    p[14] = 1.0  # only 14 is above the floor
+    box = np.zeros(4, np.int64)
+    settled = np.zeros(n * n, bool)
+    field = Sweep(0, box, int(counters[Count.N_ACTIVE]), pores, apos, indptr, nbr, thr, g,
+                  g_out, 1.0 / vol, np.zeros(n * n), box)  # fmt: skip
+    spread(field, settled, counters, drained, p, 1e-9)
+    # 14's neighbours: 8 (drained), 13, 15 (active), 20, in the CSR order
+    expected = [14, 15] + [j for j in nbr[indptr[14] : indptr[15]] if j not in (8, 15)]
+    assert list(pores[: counters[Count.N_ACTIVE]]) == expected
+    assert settled[14] and not settled[15]
+    before = counters.copy()
+    p[14] = 2.0
+    spread(field._replace(n_active=int(counters[Count.N_ACTIVE])), settled, counters, drained,
+           p, 1e-9)  # fmt: skip
+    assert np.array_equal(counters, before)  # nothing left for 14 to activate
 
 
 def test_refresh_throats_follows_the_formulas() -> None:
