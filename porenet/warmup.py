@@ -37,6 +37,7 @@ def _scene(fluid: dict[str, Any], n: int = 12, **sections: Any) -> dict[str, Any
 
 _VISCOUS = {"kind": "viscous", "capillary_number": 1e-3}
 _HERTZ = {"kind": "hertz", "fracturing_number": 1.0}
+_CUBIC = {"kind": "cubic", "shape": [6, 6, 6], "disorder": 0.3, "pore_size": 1e-7}
 
 #: Scenes that together call every kernel of the built-in kinds.
 WARM_UPS: tuple[WarmUp, ...] = (
@@ -58,6 +59,14 @@ WARM_UPS: tuple[WarmUp, ...] = (
     ),
     WarmUp("viscous model, implicit integrator", _scene(_VISCOUS | {"integrator": "implicit"})),
     WarmUp(
+        "viscous model on a 3-D lattice, explicit integrator",
+        _scene(_VISCOUS | {"integrator": "explicit"}) | {"lattice": _CUBIC},
+    ),
+    WarmUp(
+        "viscous model on a 3-D lattice, rkc integrator",
+        _scene(_VISCOUS | {"integrator": "rkc"}) | {"lattice": _CUBIC},
+    ),
+    WarmUp(
         "invasion percolation in a Hertz solid",
         _scene({"kind": "invasion-percolation"}, solid=_HERTZ),
     ),
@@ -69,27 +78,45 @@ WARM_UPS: tuple[WarmUp, ...] = (
 )
 
 
+def _switches(warm: WarmUp) -> list[dict[str, bool] | None]:
+    """The capability switches (:func:`porenet.kernels.jit.variant`) of the kernel variants
+    that runs like ``warm`` call on lattices of any size: with and without threads on the
+    square grid, and for the RKC integrator also with threads and the windows of local time
+    steps (which ``local_steps = "auto"`` takes on 40 000 pores or more; a smaller lattice
+    with ``local_steps = "on"`` compiles its variant on its first run); lists, without
+    threads or windows, on other lattices. None: as the scene's own run (a fluid other than
+    the viscous model)."""
+    fluid = warm.scene["fluid"]
+    if fluid["kind"] != "viscous":
+        return [None]
+    if warm.scene["lattice"].get("kind", "square") != "square":
+        return [{"THREADS": False, "LISTS": True, "WINDOWS": False}]
+    out = [{"THREADS": threads, "LISTS": False, "WINDOWS": False} for threads in (False, True)]
+    if fluid.get("integrator") == "rkc":  # local time steps: lattices of 40 000 pores or more
+        out.append({"THREADS": True, "LISTS": False, "WINDOWS": True})
+    return out
+
+
 def warm_up(warm: WarmUp) -> float:
     """Run one warm-up scene; return the seconds this process spent compiling for it.
 
-    A viscous scene runs twice: as its tiny lattice does (the single-threaded variants of
-    the kernels, :meth:`porenet.builtin.fluids.viscous.ViscousDrainage.sized`) and as a
-    lattice large enough for threads does (the full kernels, with their parallel loops)."""
+    A viscous scene runs once per kernel variant that runs of its kind call on lattices of
+    any size (:func:`_switches`; :meth:`porenet.builtin.fluids.viscous.ViscousDrainage.sized`)."""
     from porenet.builtin.fluids.local_steps import LocalSteps
     from porenet.builtin.fluids.viscous import ViscousDrainage
     from porenet.simulation import Simulation
 
     w = watch()
     before = w.seconds
-    gain, full = LocalSteps.gain, ViscousDrainage.full_kernels
+    gain, switches = LocalSteps.gain, ViscousDrainage.switches
     try:
         if warm.macro_steps:
             LocalSteps.gain = float("inf")
-        for kernels in (False, True) if warm.scene["fluid"]["kind"] == "viscous" else (False,):
-            ViscousDrainage.full_kernels = kernels
+        for forced in _switches(warm):
+            ViscousDrainage.switches = forced
             Simulation.from_scene(warm.scene).run()
     finally:
-        LocalSteps.gain, ViscousDrainage.full_kernels = gain, full
+        LocalSteps.gain, ViscousDrainage.switches = gain, switches
     return w.seconds - before
 
 

@@ -107,14 +107,10 @@ def _kernel(func: Callable[..., Any], options: dict[str, Any]) -> Any:
     return python_side
 
 
-#: id of each kernel's dispatcher -> (the dispatcher, its numba options), for
-#: :func:`single_threaded`
+#: id of each kernel's dispatcher -> (the dispatcher, its numba options), for :func:`variant`
 _OPTIONS: dict[int, tuple[Any, dict[str, Any]]] = {}
-#: id of each parallel twin -> its serial twin (:func:`serial_and_parallel`)
-_SERIAL_TWIN: dict[int, Any] = {}
-#: id of a kernel -> its single-threaded variant (the kernel itself if it reaches no
-#: parallel twin)
-_SINGLE: dict[int, Any] = {}
+#: (id of a kernel, the switches off) -> its variant (the kernel itself if it reads none)
+_VARIANTS: dict[tuple[int, tuple[str, ...]], Any] = {}
 
 
 def _twin(
@@ -189,54 +185,65 @@ def serial_and_parallel(func: Callable[..., Any]) -> tuple[Any, Any]:
     """Two compilations of one kernel whose loop is a ``prange``: ``(serial, parallel)``, the
     first an ordinary :func:`njit` kernel (numba runs ``prange`` as ``range`` there) for small
     inputs, where starting threads costs more than they save, the second a :func:`pjit` one
-    (the same rules apply). Each is cached on disk under its own name."""
+    (the same rules apply). Each is cached on disk under its own name. Callers pick the
+    parallel one only ``if THREADS and threaded_box(box)`` (:data:`THREADS`)."""
     serial = njit(func)
     if not HAVE_NUMBA:
         return serial, serial
-    parallel = pjit(_twin(func, "_parallel"))
-    _SERIAL_TWIN[id(parallel)] = serial
-    return serial, parallel
+    return serial, pjit(_twin(func, "_parallel"))
 
 
-def single_threaded(kernel: Any) -> Any:
-    """``kernel`` with every parallel twin it reaches, itself or through the kernels it
-    calls, replaced by its serial twin (:func:`serial_and_parallel`); ``kernel`` itself if it
-    reaches none.
+#: A capability switch of the kernels (see :func:`variant`): code that only a run with
+#: threads needs sits under ``if THREADS and ...``. True here, so the kernels as imported
+#: have every capability.
+THREADS = True
 
-    For a lattice of fewer than :data:`PARALLEL_MIN` pores, where no box is ever swept by
-    several threads: the results are the same (the same serial loops run), but a first run
-    does not compile the parallel twins, which it would never call (a quarter of the
-    compilation of a small viscous run before this; docs/performance.md, "First run").
 
-    How: a variant is a copy of the kernel's function (same code) whose globals map the names
-    of its parallel callees to their serial twins and of its other kernel callees to their
-    variants; numba compiles and caches it under the name ``<name>_1thread``. Only callees
-    named as globals of the kernel's module are seen (porenet's kernels call each other so)."""
-    if not HAVE_NUMBA:
+def variant(kernel: Any, **switches: bool) -> Any:
+    """``kernel`` compiled with some capability switches off, for a run that cannot use
+    them: ``variant(rkc_advance, THREADS=False)``. ``kernel`` itself if neither it nor a
+    kernel it calls reads any of them.
+
+    A switch is a module-level boolean that kernels read in branch conditions (``if THREADS
+    and threaded_box(box): ...``): :data:`THREADS` here, ``LISTS`` and ``WINDOWS`` of
+    :mod:`porenet.kernels.viscous.state`. Numba treats a global as a constant and drops a
+    branch whose condition is a constant False before it types the code, so the kernels
+    called only there are never compiled. Where the switch is off in a variant, the run must
+    never need the branch (the caller's promise: e.g. no box of ``PARALLEL_MIN`` pores);
+    the code that does run is the same, so the results are the same to the bit
+    (``tests/verification/test_kernel_variants.py``), and a first run compiles less
+    (docs/performance.md, "First run").
+
+    How: a variant is a copy of the kernel's function (same code) whose globals map each
+    switch to its value and each kernel it calls to that kernel's variant; numba compiles and
+    caches it under ``<name>_without_<switches>``. Only callees named as globals of the
+    kernel's module are seen (porenet's kernels call each other so)."""
+    off = tuple(sorted(name for name, value in switches.items() if not value))
+    if not HAVE_NUMBA or not off:
         return kernel
-    known = _SINGLE.get(id(kernel))
+    key = (id(kernel), off)
+    known = _VARIANTS.get(key)
     if known is not None:
         return known
     func = kernel.py_func
     substitutes: dict[str, Any] = {}
     for name in _global_names(func.__code__):
         value = func.__globals__.get(name)
-        if value is None or value is kernel:
-            continue
-        if id(value) in _SERIAL_TWIN:
-            substitutes[name] = _SERIAL_TWIN[id(value)]
-        elif id(value) in _OPTIONS:
-            variant = single_threaded(value)
-            if variant is not value:
-                substitutes[name] = variant
+        if name in off and isinstance(value, bool):
+            substitutes[name] = False
+        elif value is not None and value is not kernel and id(value) in _OPTIONS:
+            callee = variant(value, **dict.fromkeys(off, False))
+            if callee is not value:
+                substitutes[name] = callee
     if not substitutes:
-        _SINGLE[id(kernel)] = kernel
+        _VARIANTS[key] = kernel
         return kernel
     namespace = dict(func.__globals__)
     namespace.update(substitutes)
-    variant = _kernel(_twin(func, "_1thread", namespace), _OPTIONS[id(kernel)][1])
-    _SINGLE[id(kernel)] = variant
-    return variant
+    suffix = "_without_" + "_".join(name.lower() for name in off)
+    compiled = _kernel(_twin(func, suffix, namespace), _OPTIONS[id(kernel)][1])
+    _VARIANTS[key] = compiled
+    return compiled
 
 
 def _global_names(code: Any) -> set[str]:

@@ -246,7 +246,7 @@ def _kernels_compiled() -> None:
     docs/roadmap.md). ``porenet`` itself reports an error that follows a real Ctrl-C as the
     interruption, but these examples are interrupted in-process by a timer, and the
     half-built function would stay in this process: not what this property probes."""
-    status, err = _cli(["compile"])
+    status, err = _cli(["compile", "--jobs", "2"])
     assert status == 0, err
 
 

@@ -21,7 +21,7 @@ import json, sys
 from porenet.compilation import watch
 from porenet.simulation import Simulation
 w = watch()
-fig1b, fig5, ip = sys.argv[1:4]
+fig1b, fig5, ip, cubic = sys.argv[1:5]
 cases = [
     (fig1b, ["lattice.n=100"]),
     (fig1b, ["lattice.n=100", "fluid.capillary_number=1e-5"]),
@@ -35,6 +35,8 @@ cases = [
             "fluid.capillary_number=", "fluid.viscosity="]),
     (ip, ["lattice.n=100", "stop.at=complete"]),
     (ip, ["lattice.n=100", "fluid.trapping=false"]),
+    (cubic, ["lattice.shape=[10, 10, 10]"]),
+    (cubic, ["lattice.shape=[10, 10, 10]", "fluid.integrator=rkc", "injection.at=z-"]),
 ]
 counts = []
 for scene, sets in cases:
@@ -53,10 +55,11 @@ def test_after_porenet_compile_no_run_compiles(tmp_path):
     assert done.returncode == 0, done.stderr
     assert "porenet compile:" in done.stdout
     scenes = [str(ROOT / "examples" / "scenes" / f) for f in ("fig1b.toml", "fig5.toml",
-                                                                "ip-400.toml")]  # fmt: skip
+                                                                "ip-400.toml",
+                                                                "cubic-viscous.toml")]  # fmt: skip
     check = subprocess.run(
         [sys.executable, "-c", CHECK, *scenes], env=env, capture_output=True, text=True,
         check=False,
     )  # fmt: skip
     assert check.returncode == 0, check.stderr
-    assert json.loads(check.stdout.strip().splitlines()[-1]) == [0] * 10
+    assert json.loads(check.stdout.strip().splitlines()[-1]) == [0] * 12

@@ -21,7 +21,7 @@ from porenet.builtin.fluids.config import ViscousConfig, auto_integrator
 from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.interfaces import FluidModel, Lattice
 from porenet.core.state import State
-from porenet.kernels.jit import PARALLEL_MIN, single_threaded, threads
+from porenet.kernels.jit import PARALLEL_MIN, threads, variant
 from porenet.kernels.viscous.state import (
     Conductances,
     Control,
@@ -113,7 +113,7 @@ class ViscousDrainage(FluidModel):
 
     # -- setup --------------------------------------------------------------------------
     def setup(self, state: State) -> None:
-        from porenet.kernels.viscous.explicit import drain_pore
+        from porenet.kernels.viscous.explicit import drain_inlets
 
         lat, cfg, sc = self.lattice, self.config, self.context.scales
         at = self.context.injection.at
@@ -121,9 +121,9 @@ class ViscousDrainage(FluidModel):
         self._injection()
         self._integrator = self._choose_integrator()
         self._allocate(state)
-        for inlet in lat.inlet_pores(at):
-            drain_pore(int(inlet), -1, self.network, self.conductances, self.flow, self.front,
-                       self.records, MENISCUS_LENGTH)  # fmt: skip
+        inlets = np.asarray(lat.inlet_pores(at), dtype=np.int64)
+        drain_inlets(inlets, self.network, self.conductances, self.flow, self.front,
+                     self.records, MENISCUS_LENGTH)  # fmt: skip
         counters = self.flow.counters
         if self.network.outlet[state.drained].any():  # an inlet on the outlet: breakthrough
             counters[Count.BREAKTHROUGH] = 1
@@ -448,18 +448,32 @@ class ViscousDrainage(FluidModel):
             and self.step_limit is None
         )
 
-    #: Call the full kernels whatever the lattice (:meth:`sized`): ``porenet compile`` sets
-    #: it to compile, on its tiny scenes, what lattices large enough for threads call.
-    full_kernels = False
+    #: The capability switches :meth:`sized` uses whatever the lattice and the scene (None:
+    #: from them; ``{}``: the full kernels): ``porenet compile`` sets them to compile, on its
+    #: tiny scenes, the variants that runs of every size call.
+    switches: dict[str, bool] | None = None
 
     def sized(self, kernel: Any) -> Any:
-        """``kernel``, or on a lattice where no box can reach
-        :data:`~porenet.kernels.jit.PARALLEL_MIN` pores (fewer pores, or not a square grid)
-        its single-threaded variant (:func:`porenet.kernels.jit.single_threaded`): the same
-        loops run, but a first run does not compile parallel ones it would never call."""
-        if self.full_kernels or (self.network.grid_n > 0 and self.lattice.n_pores >= PARALLEL_MIN):
-            return kernel
-        return single_threaded(kernel)
+        """``kernel`` as this run can use it (:func:`porenet.kernels.jit.variant`): without
+        the code for threads on a lattice where no box can reach
+        :data:`~porenet.kernels.jit.PARALLEL_MIN` pores (fewer pores, or not a square grid),
+        without the code for lists of active pores on the square grid, and without the code
+        for local time steps' windows where this run cannot take them. The same loops run, so
+        the results are the same; a first run compiles only what it can call."""
+        if self.switches is not None:
+            return variant(kernel, **self.switches)
+        from porenet.builtin.fluids.local_steps import LocalSteps
+
+        grid = self.network.grid_n > 0
+        windows = self._local_steps_apply() and (
+            self.config.local_steps == "on" or self.lattice.n_pores >= LocalSteps.min_box
+        )
+        return variant(
+            kernel,
+            THREADS=grid and self.lattice.n_pores >= PARALLEL_MIN,
+            LISTS=not grid,
+            WINDOWS=windows,
+        )
 
     # -- for local time steps (porenet.builtin.fluids.local_steps) --------------------------
     def rkc_steps(

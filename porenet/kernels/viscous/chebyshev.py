@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from porenet.kernels.jit import njit, prange, serial_and_parallel, threaded_box
+from porenet.kernels.jit import THREADS, njit, prange, serial_and_parallel, threaded_box
 from porenet.kernels.viscous.diffusion import csr_fluxes, grid_flux
-from porenet.kernels.viscous.state import Sweep
+from porenet.kernels.viscous.state import LISTS, Sweep
 from porenet.kernels.viscous.stencil import Stencil, interior_run
 
 #: Most stages of one step (the step is cut to what they make stable).
@@ -216,7 +216,7 @@ def grid_stage(
     box = field.box
     rows = box[1] - box[0]
     partial = np.empty(max(rows, 0))
-    if threaded_box(box):
+    if THREADS and threaded_box(box):
         _stage_rows_parallel(field, y1, y2, f0, coef, out, flux_only, partial)
     else:
         _stage_rows_serial(field, y1, y2, f0, coef, out, flux_only, partial)
@@ -264,9 +264,9 @@ def sweep(
 ) -> float:
     """:func:`grid_stage` or :func:`csr_stage` over the active pores of ``field`` (a
     :class:`~porenet.kernels.viscous.state.Sweep`)."""
-    if field.grid_n > 0:
-        return grid_stage(field, y1, y2, f0, coef, out, flux_only)
-    return csr_stage(field, y1, y2, f0, coef, out, flux_only)
+    if LISTS and field.grid_n == 0:
+        return csr_stage(field, y1, y2, f0, coef, out, flux_only)
+    return grid_stage(field, y1, y2, f0, coef, out, flux_only)
 
 
 def spectral_radius(

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from porenet.kernels.jit import njit, prange, serial_and_parallel, threaded_box
-from porenet.kernels.viscous.state import Conductances, Count, Network, Sweep
+from porenet.kernels.jit import THREADS, njit, prange, serial_and_parallel, threaded_box
+from porenet.kernels.viscous.state import LISTS, Conductances, Count, Network, Sweep
 from porenet.kernels.viscous.stencil import Stencil, interior_run
 
 
@@ -256,7 +256,7 @@ def grid_sweep(
     box = field.box
     rows = box[1] - box[0]
     partial = np.empty((2, max(rows, 0)))
-    if threaded_box(box):
+    if THREADS and threaded_box(box):
         _sweep_rows_parallel(field, dt, vol, p, p_next, partial)
     else:
         _sweep_rows_serial(field, dt, vol, p, p_next, partial)
@@ -284,7 +284,7 @@ _copy_rows_serial, _copy_rows_parallel = serial_and_parallel(_copy_rows)
 @njit
 def copy_rows(n: int, box: np.ndarray, src: np.ndarray, dst: np.ndarray) -> None:
     """``dst = src`` over the box of an n x n grid (by several threads on a large box)."""
-    if threaded_box(box):
+    if THREADS and threaded_box(box):
         _copy_rows_parallel(n, box, src, dst)
     else:
         _copy_rows_serial(n, box, src, dst)
@@ -329,7 +329,7 @@ def spread(
     The same pores are activated in the same order as without the mark, at the cost of the
     pressure front's pores instead of every active one (on a cubic lattice of 262 144 pores
     nearly all active, 1.0 ms against 19 ms; ``tests/benchmarks/bench_csr.py``)."""
-    if field.grid_n == 0:
+    if LISTS and field.grid_n == 0:
         act, apos, indptr, nbr = field.pores, field.pore_slot, field.indptr, field.neighbour
         for s in range(field.n_active):
             i = act[s]

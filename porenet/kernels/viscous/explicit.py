@@ -61,6 +61,8 @@ from porenet.kernels.viscous.menisci import (
     undrained_pore,
 )
 from porenet.kernels.viscous.state import (
+    LISTS,
+    WINDOWS,
     Column,
     Conductances,
     Control,
@@ -178,6 +180,23 @@ def drain_pore(
 
 
 @njit
+def drain_inlets(
+    inlets: np.ndarray,
+    net: Network,
+    cond: Conductances,
+    flow: Flow,
+    front: Front,
+    records: Records,
+    new_meniscus: float,
+) -> None:
+    """Drain the ``inlets`` (int64), in their order, at the start of a run: each as
+    :func:`drain_pore` with no throat. (A kernel of its own, so that a first run compiles
+    :func:`drain_pore` once, as the integrators call it, and not a second time for Python.)"""
+    for pore in inlets:
+        drain_pore(pore, -1, net, cond, flow, front, records, new_meniscus)
+
+
+@njit
 def explicit_advance(
     net: Network,
     cond: Conductances,
@@ -224,7 +243,7 @@ def explicit_advance(
     near = scratch.near  # slots in front of menisci near their threshold
     last_rate = totals[Total.LAST_RATE]  # largest |dp/dt| of the last step (stationarity)
     dt_next = totals[Total.DT_NEXT]  # the step the accuracy limit predicts
-    windowed = window.ints[WindowInt.MODE] == Mode.FINE
+    windowed = WINDOWS and window.ints[WindowInt.MODE] == Mode.FINE
     box = window.box if windowed else nbox  # the pores swept
     while True:
         totals[Total.DT_NEXT] = dt_next
@@ -251,7 +270,7 @@ def explicit_advance(
         # the pores swept (the box, or the listed active pores) and what the sweep reads
         field = Sweep(grid_n, box, na, act, apos, indptr, nbr, thr, g_eff, g_out, inv_vol, flux,
                       nbox)  # fmt: skip
-        if grid_n == 0:
+        if LISTS and grid_n == 0:
             csr_fluxes(field, p, flux)
         # The candidate menisci of the step, on_t[:n_on] into pores on_p[:n_on] with
         # thresholds c_on: those that may flow by its end (menisci.py: each one flows, slides
@@ -322,7 +341,7 @@ def explicit_advance(
                 break
             dt_hi = 0.9 * dt * pressure_step / change
         dt_next = dt_max if change == 0.0 else max(dt, 0.9 * dt * pressure_step / change)
-        if grid_n == 0:
+        if LISTS and grid_n == 0:
             stored, out, largest = csr_update(field, dt, p, p_next, vol)
         else:
             stored, out = grid_sweep(field, dt, vol, p, p_next)
@@ -356,7 +375,7 @@ def explicit_advance(
                 ell[f] = 0.0
             elif q > 0.0:
                 ell[f] -= q * dt / area[f]
-        if grid_n == 0:
+        if LISTS and grid_n == 0:
             csr_copy(field, p_next, p)
         else:
             copy_rows(grid_n, box, p_next, p)

@@ -66,7 +66,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from porenet.kernels.jit import njit, prange, serial_and_parallel, threaded_box
+from porenet.kernels.jit import THREADS, njit, prange, serial_and_parallel, threaded_box
 from porenet.kernels.viscous.chebyshev import MAX_STAGES, longest_step, stage_count, sweep
 from porenet.kernels.viscous.diffusion import grow_where_reached, spread
 from porenet.kernels.viscous.explicit import _list_meniscus, explicit_advance
@@ -80,6 +80,8 @@ from porenet.kernels.viscous.rkc_step import (
     step_error,
 )
 from porenet.kernels.viscous.state import (
+    LISTS,
+    WINDOWS,
     Conductances,
     Control,
     Count,
@@ -207,7 +209,7 @@ def _list_candidates(
     pinv = pump0.pressure
     rising = pump0.rate / pump0.capacity if pump0.control == Control.RATE else 0.0
     reach = h * max(rising, pump0.ramp_rate)
-    windowed = window.ints[WindowInt.MODE] == Mode.FINE
+    windowed = WINDOWS and window.ints[WindowInt.MODE] == Mode.FINE
     if windowed:
         k = far_meniscus(window, pinv, 1e-8, t, entry, tp, drained)
         if k >= 0:
@@ -278,13 +280,13 @@ def _add_active(field: Sweep, src: np.ndarray, dst: np.ndarray) -> None:
     """``dst += src`` over the active pores (on grids row by row, :func:`_row_add`: the slice
     expression ``dst[a:b] += src[a:b]`` took 3x as long; several threads on a large box)."""
     grid_n, box, na, act = field.grid_n, field.box, field.n_active, field.pores
-    if grid_n > 0 and threaded_box(box):
-        _add_rows_parallel(grid_n, box, src, dst)
-    elif grid_n > 0:
-        _add_rows_serial(grid_n, box, src, dst)
-    else:
+    if LISTS and grid_n == 0:
         for s in range(na):
             dst[act[s]] += src[act[s]]
+    elif THREADS and threaded_box(box):
+        _add_rows_parallel(grid_n, box, src, dst)
+    else:
+        _add_rows_serial(grid_n, box, src, dst)
 
 
 @njit(helper=True)
@@ -346,7 +348,7 @@ def rkc_advance(
     moved = np.empty(n_thr, dtype=np.bool_)
     rhs = np.empty(n_pores)  # the stages' right-hand sides at the menisci's pores
     stages = Stages(rkc.stages, rhs, zero, qst, lst, pst, ast, r_ell, moved)
-    windowed = window.ints[WindowInt.MODE] == Mode.FINE
+    windowed = WINDOWS and window.ints[WindowInt.MODE] == Mode.FINE
     box = window.box if windowed else nbox  # the pores swept
     # F_E(y_n) as the last call left it, unless the state changed since (F0_VALID cleared by
     # the caller) or this is a window's fine integration (which starts afresh)
@@ -499,7 +501,7 @@ def rkc_advance(
         _unlist(n_on, menisci0, cand)
         book_step(flow, pump0, h, ast[k, 0], stored, ast[k, 1], ps)
         ctrl[Slot.RKC_STEPS] += 1
-        if grid_n == 0:
+        if LISTS and grid_n == 0:
             for _r in range(m):  # (the active pores grow with each spread)
                 now = Sweep(grid_n, box, counters[Count.N_ACTIVE], act, apos, indptr, nbr, thr,
                             g_eff, g_out, inv_vol, fnew, nbox)  # fmt: skip

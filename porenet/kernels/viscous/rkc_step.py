@@ -12,10 +12,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from porenet.kernels.jit import njit, prange, serial_and_parallel, threaded_box
+from porenet.kernels.jit import THREADS, njit, prange, serial_and_parallel, threaded_box
 from porenet.kernels.viscous.chebyshev import coefficients, sweep
 from porenet.kernels.viscous.menisci import meniscus_fluxes, pore_after
-from porenet.kernels.viscous.state import Control, Menisci, Pump, Sweep
+from porenet.kernels.viscous.state import LISTS, WINDOWS, Control, Menisci, Pump, Sweep
 from porenet.kernels.viscous.window import (
     Mode,
     Window,
@@ -151,14 +151,14 @@ def _scaled_rate(field: Sweep, f: np.ndarray, dt: float, out: np.ndarray) -> Non
     """``out = dt f / V`` over the active pores of ``field`` (the first stage's increment)."""
     grid_n, box, na, act = field.grid_n, field.box, field.n_active, field.pores
     inv_vol = field.inverse_volume
-    if grid_n > 0 and threaded_box(box):
-        _scaled_rows_parallel(grid_n, box, f, inv_vol, dt, out)
-    elif grid_n > 0:
-        _scaled_rows_serial(grid_n, box, f, inv_vol, dt, out)
-    else:
+    if LISTS and grid_n == 0:
         for s in range(na):
             k = act[s]
             out[k] = dt * f[k] * inv_vol[k]
+    elif THREADS and threaded_box(box):
+        _scaled_rows_parallel(grid_n, box, f, inv_vol, dt, out)
+    else:
+        _scaled_rows_serial(grid_n, box, f, inv_vol, dt, out)
 
 
 @njit
@@ -192,7 +192,7 @@ def imex_stages(
     capacity, ramp = pump0.capacity, pump0.ramp_rate
     inv_vol, g_eff, g_out = field.inverse_volume, field.between, field.outlet
     mode = window.ints[WindowInt.MODE]
-    windowed = mode != Mode.OFF
+    windowed = WINDOWS and mode != Mode.OFF
     dirichlet = mode == Mode.FINE
     mus1, coef = coefficients(m)
     dt_i = h * mus1
@@ -342,7 +342,7 @@ def step_error(
     count = (box[1] - box[0]) if grid_n > 0 else na
     partial = np.empty((3, max(count, 0)))
     args = (h, field, count, ds, f0, fnew, fi, vol, partial)
-    if grid_n > 0 and threaded_box(box):
+    if THREADS and grid_n > 0 and threaded_box(box):
         _error_rows_parallel(*args)
     else:
         _error_rows_serial(*args)

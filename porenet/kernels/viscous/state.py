@@ -118,6 +118,16 @@ _STATUS_TEXT = {
 }
 
 
+#: Capability switches of the kernels (:func:`porenet.kernels.jit.variant`): code for
+#: lattices swept as lists of active pores (every lattice but the square grid) sits under
+#: ``if LISTS and grid_n == 0``, and code for the fine integration of a macro step of local
+#: time steps under ``windowed = WINDOWS and ...``. Both True here: the kernels as imported
+#: can do everything; a run that cannot need one calls a variant with it off, which a first
+#: run compiles without that code.
+LISTS = True
+WINDOWS = True
+
+
 class Control(IntEnum):
     """How the injection is driven (``fluid.control``)."""
 

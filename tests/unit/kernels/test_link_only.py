@@ -19,7 +19,7 @@ from porenet.kernels import link_only
 # at run time, and a reassociated sum.
 KERNELS = """
 import numpy as np
-from porenet.kernels.jit import njit, prange, serial_and_parallel
+from porenet.kernels.jit import THREADS, njit, prange, serial_and_parallel
 
 
 @njit(helper=True)
@@ -56,7 +56,7 @@ def check(x, limit):
 @njit
 def root(a, limit, threaded):
     out = np.empty(a.shape[0])
-    if threaded:
+    if THREADS and threaded:
         rows_parallel(a, out)
     else:
         rows_serial(a, out)
@@ -171,7 +171,7 @@ SINGLE = """
 import json
 import numpy as np
 from numba.core import event
-from porenet.kernels.jit import single_threaded
+from porenet.kernels.jit import variant
 
 compiled = []
 
@@ -188,15 +188,15 @@ event.register("numba:compile", Listener())
 import tree_kernels as k
 
 a = np.arange(60.0).reshape(12, 5) / 7.0
-variant = single_threaded(k.root)
-out, s = variant(a, 1e9, True)  # the threaded branch runs the serial twin
+one = variant(k.root, THREADS=False)
+out, s = one(a, 1e9, True)  # the threaded branch runs the serial twin
 print(json.dumps({"out": out.tolist(), "total": s, "compiled": compiled,
-                  "same": single_threaded(k.root) is variant,
-                  "leaf": single_threaded(k.row) is k.row}))
+                  "same": variant(k.root, THREADS=False) is one,
+                  "leaf": variant(k.row, THREADS=False) is k.row}))
 """
 
 
-def test_single_threaded_variant_runs_the_serial_loops_and_compiles_no_parallel_one(tree):
+def test_the_variant_without_threads_runs_the_serial_loops_and_compiles_no_parallel_one(tree):
     tmp_path, env = tree
     out = subprocess.run(
         [sys.executable, "-c", SINGLE], capture_output=True, text=True, env=env, cwd=tmp_path,
@@ -206,6 +206,6 @@ def test_single_threaded_variant_runs_the_serial_loops_and_compiles_no_parallel_
     got = json.loads(out.stdout.strip().splitlines()[-1])
     full = _run(tmp_path, env)["result"]["True"]
     assert [got["out"], got["total"]] == full  # the same bits as the kernel with threads
-    assert "root_1thread" in got["compiled"]
+    assert "root_without_threads" in got["compiled"]
     assert not any("parallel" in name for name in got["compiled"])
     assert got["same"] and got["leaf"]  # one variant per kernel; none for a kernel without
