@@ -12,12 +12,16 @@ missing). Use them inside kernels.
 
 Calls between kernels: each kernel is two numba dispatchers of the same function, the one
 Python calls (with numba's CPython wrapper, which converts Python objects to machine types)
-and a twin that other kernels call (without it, and without the C-callable wrapper): a kernel
-that only kernels call never builds the wrappers, which are a fifth of a first run's compile
-time (docs/performance.md, "First run"). The machine code of a call is the same either way.
+and a twin that other kernels call, without it and compiled for linking only
+(:mod:`porenet.kernels.link_only`): a kernel tree is optimised and compiled to machine code
+once, at the kernel Python calls (docs/architecture.md). No kernel has numba's C-callable
+wrapper (porenet passes no kernel as a first-class function). :func:`variant` compiles a
+kernel with capability switches off (:data:`THREADS`, and the viscous model's ``LISTS`` and
+``WINDOWS``), for a run that cannot use the code they guard.
 
 Threads: :func:`pjit` compiles a kernel whose ``prange`` loops run on several threads,
-:func:`serial_and_parallel` one loop both ways (callers pick by :func:`threaded_box`), and
+:func:`serial_and_parallel` one loop both ways (callers pick by ``THREADS and``
+:func:`threaded_box`), and
 :func:`set_threads` / :func:`threads` set and read how many threads they use (the results do
 not depend on it; docs/architecture.md).
 """
