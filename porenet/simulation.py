@@ -537,7 +537,8 @@ class Simulation:
         force = sc.pressure * sc.area
         units = {"spring_compression": sc.length, "spring_force": force, "apertures": sc.length,
                  "displacement": sc.length, "time": sc.time or 1.0,
-                 "max_aperture_change": sc.length, "balance_residual": force}  # fmt: skip
+                 "max_aperture_change": sc.length, "balance_residual": force,
+                 "shear_force": force, "slip": sc.length}  # fmt: skip
         return {
             k: v if np.asarray(v).dtype == bool else np.asarray(v) * units.get(k, 1.0)
             for k, v in fields.items()

@@ -15,7 +15,7 @@ from porenet.builtin.fluids.config import InvasionPercolationConfig, ViscousConf
 from porenet.builtin.lattices.config import CubicLatticeConfig, SquareLatticeConfig
 from porenet.builtin.lattices.network_config import NetworkLatticeConfig
 from porenet.builtin.observers.config import ProgressConfig, SnapshotsConfig
-from porenet.builtin.solids.config import HertzConfig
+from porenet.builtin.solids.config import HertzConfig, HertzMindlinConfig
 from porenet.builtin.solids.rigid import RigidConfig
 from porenet.hooks import Register, hookimpl
 
@@ -40,6 +40,7 @@ def porenet_register_fluid_models(register: Register) -> None:
 def porenet_register_solid_models(register: Register) -> None:
     register(RigidConfig, None)
     register(HertzConfig, "porenet.builtin.solids.hertz:HertzSolid")
+    register(HertzMindlinConfig, "porenet.builtin.solids.mindlin:HertzMindlinSolid")
 
 
 @hookimpl

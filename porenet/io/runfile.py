@@ -21,8 +21,10 @@ from porenet.result import TIMESERIES_UNITS, RunData, Snapshot
 #: ``/snapshots``; the reader still reads version 1 and refuses versions it does not know.
 FORMAT_VERSION = 2
 
-#: Solid fields in ``/final`` (deformable media), in canonical spring (= throat) order.
-MECHANICS_FINAL = ("spring_compression", "spring_force", "removed_springs", "displacement")
+#: Solid fields in ``/final`` (deformable media), in canonical spring (= throat) order; the
+#: last four only for the frictional solid (kind ``hertz-mindlin``).
+MECHANICS_FINAL = ("spring_compression", "spring_force", "removed_springs", "displacement",
+                   "shear_force", "slip", "sliding", "rotation")  # fmt: skip
 
 #: Units of the per-update series in ``/mechanics`` (deformable media).
 MECHANICS_UNITS = {
@@ -31,6 +33,8 @@ MECHANICS_UNITS = {
     "removed_springs": "springs",
     "max_aperture_change": "m",
     "balance_residual": "N",
+    "sliding_contacts": "contacts",
+    "solver_iterations": "V-cycles",
 }
 
 

@@ -68,7 +68,7 @@ class HertzSolid(SolidModel):
             self._pair_pore, self._pair_particle, np.asarray(lattice.pore_coords), xy
         )
         self._chains = None
-        if config.solver in ("auto", "chains"):
+        if self._wants_chains():
             from porenet.kernels.mechanics import chains as ck
 
             self._chains = ck.find_chains(springs, self._axis, fixed)
@@ -90,6 +90,10 @@ class HertzSolid(SolidModel):
         self.h0 = 2.0 * config.prestrain
         self.k0 = float(mk.hertz_stiffness(self.h0, self.modulus))
         self.disorder = getattr(lattice.config, "disorder", None)
+
+    def _wants_chains(self) -> bool:
+        """Whether to look for chains (the line-by-line solver) when the solid is built."""
+        return self.config.solver in ("auto", "chains")
 
     @property
     def compliance(self) -> float:

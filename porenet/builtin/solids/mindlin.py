@@ -1,0 +1,257 @@
+"""The frictional solid: Hertz normal contacts with a tangential (Mindlin) stiffness and
+optional Coulomb sliding (docs/model.md, "Frictional solid (kind hertz-mindlin)")."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from porenet.builtin.solids.config import HertzMindlinConfig
+from porenet.builtin.solids.hertz import HertzSolid
+from porenet.core.errors import ConfigError
+from porenet.core.interfaces import Lattice, RunContext
+from porenet.core.state import State
+from porenet.kernels.mechanics.springs import Stat
+
+
+class HertzMindlinSolid(HertzSolid):
+    """The :class:`~porenet.builtin.solids.hertz.HertzSolid` with frictional contacts.
+
+    Each contact also carries a tangential force ``S`` with stiffness ``K_t = r_t K`` (``K``
+    the Hertz tangent), capped by Coulomb's ``mu_f F`` where ``friction`` is given; a contact
+    that opens loses both. Particle rotations are held (default) or solved. The update
+    balances forces (and torques) on every free particle, with the contact iteration of
+    :mod:`porenet.kernels.mechanics.frictional`, solved by multigrid
+    (:mod:`porenet.kernels.mechanics.multigrid`; square lattice, rotations held) or by a
+    sparse direct solver (:mod:`porenet.kernels.mechanics.frictional_sparse`).
+
+    With ``r_t = 0`` it is the ``hertz`` solid, to the bit: every call goes to it.
+
+    Writes, besides the Hertzian solid's fields, ``shear_force`` (gamma a), ``slip`` (a),
+    ``sliding`` (bool) per spring and ``rotation`` (rad) per particle in its outputs.
+    """
+
+    config: HertzMindlinConfig
+
+    def __init__(self, config: HertzMindlinConfig, lattice: Lattice, context: RunContext) -> None:
+        self.stiffness_ratio = config.stiffness_ratio
+        #: True when the contacts carry no tangential stiffness: the ``hertz`` solid exactly.
+        self.frictionless = self.stiffness_ratio == 0.0
+        super().__init__(config, lattice, context)
+        if self.frictionless:
+            return
+        from porenet.kernels.mechanics.chains import PoreContacts
+        from porenet.kernels.mechanics.grid import find_grid
+
+        self._grid = None
+        if config.rotation == "held" and config.solver in ("auto", "multigrid"):
+            self._grid = find_grid(self._xy, self._springs, self._fixed)
+            if self._grid is None and config.solver == "multigrid":
+                raise ConfigError(
+                    "solid.solver = 'multigrid' needs the square lattice's layout (a full grid "
+                    "of particles inside a fixed ring, springs between grid neighbours); this "
+                    "lattice has none (use 'sparse-direct' or 'auto')"
+                )
+        order = np.argsort(self._pair_pore, kind="stable")
+        pair_ptr = np.searchsorted(self._pair_pore[order], np.arange(lattice.n_pores + 1))
+        self._contacts = PoreContacts(pair_ptr, np.ascontiguousarray(self._pair_particle[order]),
+                                      np.ascontiguousarray(self._pair_dir[order]),
+                                      float(config.pressure_area_factor))  # fmt: skip
+
+    def _wants_chains(self) -> bool:
+        return self.frictionless and self.config.solver != "sparse-direct"
+
+    @property
+    def solver(self) -> str:
+        """The linear solver in use: 'chains', 'multigrid' or 'sparse-direct'."""
+        if self.frictionless:
+            return super().solver
+        return "multigrid" if self._grid is not None else "sparse-direct"
+
+    def setup(self, state: State) -> None:
+        super().setup(state)
+        if self.frictionless:
+            return
+        from porenet.kernels.mechanics import frictional as fr
+
+        cfg = self.config
+        m, n_particles = self._springs.shape[0], len(self._xy)
+        self.shear = fr.ShearState(np.zeros(m), np.zeros(m), np.zeros(m, dtype=np.int8),
+                                   np.ones(m))  # fmt: skip
+        self.rotation = np.zeros(n_particles)
+        self.friction_law = fr.FrictionLaw(
+            modulus=self.modulus,
+            cohesion_stiffness=cfg.cohesion * self.k0,
+            contact_stiffness=self.k0,
+            foundation_stiffness=cfg.foundation * self.k0,
+            recontact=cfg.recontact == "restore",
+            stiffness_ratio=self.stiffness_ratio,
+            friction=np.inf if cfg.friction is None else float(cfg.friction),
+            rotation=cfg.rotation == "free",
+            max_iterations=cfg.max_contact_iterations,
+        )
+        self._work = fr.increments(m)
+        self._force = np.zeros((n_particles, 2))
+        self._torque = np.zeros(n_particles)
+        self._du = np.zeros((n_particles, 2))
+        self._dtheta = np.zeros(n_particles)
+        self._no_chain = np.full((n_particles, 2), -1, dtype=np.int64)
+        self._no_dirty = np.zeros(0, dtype=bool)
+        #: Round-off in the force balance: relative to the prestress force F_0.
+        self.force_tolerance = 1e-12 * float(max(np.max(state.spring_force), 1.0))
+        self.solver_iterations = 0
+        self.unconverged_solves = 0
+        self.hierarchy_builds = 0
+        self.largest_sliding = 0
+        self._series["sliding_contacts"] = []
+        self._series["solver_iterations"] = []
+        if self._grid is not None:
+            from porenet.builtin.solids.grid_solver import GridSolver
+
+            self._grid_solver = GridSolver(
+                self._grid, cfg.solver_tolerance, self.force_tolerance, cfg.max_solver_iterations
+            )
+        else:
+            from porenet.kernels.mechanics import frictional_sparse
+
+            self._pattern = frictional_sparse.pattern(self._springs, self._axis, self._fixed,
+                                                      cfg.rotation == "free")  # fmt: skip
+
+    # -- an update ---------------------------------------------------------------------------
+
+    def update(
+        self, state: State, pore_pressure: np.ndarray, tolerance: float = 0.0
+    ) -> np.ndarray | None:
+        """Balance forces (and torques) under ``pore_pressure`` (gamma/a): see
+        :meth:`HertzSolid.update`; a pore's pressure reaches its particles once it moved by
+        more than ``tolerance K_0 / A_p`` since it last did."""
+        if self.frictionless:
+            return super().update(state, pore_pressure, tolerance)
+        from porenet.kernels.mechanics.chains import refresh_loads
+
+        area = self.config.pressure_area_factor
+        threshold = tolerance * self.k0 / area if tolerance > 0 else 0.0
+        refreshed = refresh_loads(pore_pressure, self._seen, threshold, self._contacts,
+                                  self._load, self._no_chain, self._no_dirty)  # fmt: skip
+        if refreshed == 0 and self.updates > 0:
+            return np.zeros(0, dtype=np.int64)
+        changed = self._solve_and_apply(state)
+        self.updates += 1
+        stats, series = self._stats, self._series
+        series["time"].append(state.time)
+        series["drained"].append(float(state.n_drained))
+        series["removed_springs"].append(float(self.n_removed))
+        series["max_aperture_change"].append(float(stats[Stat.LARGEST_CHANGE]))
+        series["balance_residual"].append(float(stats[Stat.RESIDUAL]))
+        series["sliding_contacts"].append(float(self._sliding))
+        series["solver_iterations"].append(float(self._iterations))
+        self.largest_residual = max(self.largest_residual, float(stats[Stat.RESIDUAL]))
+        self.contact_iterations = max(self.contact_iterations, int(stats[Stat.ITERATIONS]))
+        self.unsettled += int(stats[Stat.UNSETTLED])
+        return changed
+
+    def _solve_and_apply(self, state: State) -> np.ndarray:
+        """The contact iteration of one update (module docstring of
+        :mod:`porenet.kernels.mechanics.frictional`), then its result applied."""
+        from porenet.kernels.mechanics import frictional as fr
+
+        law, work = self.friction_law, self._work
+        springs = self._spring_state(state)
+        assert state.displacement is not None
+        fr.start_update(springs, self.shear, work)
+        iterations, unsettled, solves = 0, 0, 0
+        self._du[:] = 0.0
+        self._dtheta[:] = 0.0
+        while True:
+            iterations += 1
+            fr.trial_laws(springs, self.shear, law, work)
+            fr.out_of_balance(self._load, state.displacement, self._springs, self._axis,
+                              work.normal_base, work.shear_base, law.foundation_stiffness,
+                              self._force, self._torque)  # fmt: skip
+            solves += self._solve_increments(work)
+            fr.solved_increments(self._springs, self._axis, self._du, self._dtheta, work)
+            last = iterations >= law.max_iterations
+            if fr.next_modes(springs, self.shear, law, work, not last) == 0:
+                break
+            if last:  # applied with the modes of this last solve; its imbalance is carried
+                unsettled = 1
+                break
+        n_changed, largest, opened, sliding, finite = fr.apply_increments(
+            springs, self.shear, law, work, self._du, self._dtheta, state.displacement,
+            self.rotation, self.aperture_map, self._changed,
+        )  # fmt: skip
+        if not finite:
+            raise self._numerical_error(state, "displacement, rotation or force")
+        fr.out_of_balance(self._load, state.displacement, self._springs, self._axis,
+                          state.spring_force, self.shear.force, law.foundation_stiffness,
+                          self._force, self._torque)  # fmt: skip
+        residual = fr.largest_imbalance(self._force, self._torque, self._fixed, law.rotation)
+        self.n_removed += opened
+        self._sliding = sliding
+        self.largest_sliding = max(self.largest_sliding, sliding)
+        self._iterations = solves
+        self.solver_iterations += solves
+        stats = self._stats
+        stats[:] = 0.0
+        stats[Stat.ITERATIONS] = iterations
+        stats[Stat.UNSETTLED] = unsettled
+        stats[Stat.RESIDUAL] = residual
+        stats[Stat.CHANGED] = n_changed
+        stats[Stat.LARGEST_CHANGE] = largest
+        stats[Stat.FINITE] = 1.0
+        return self._changed[:n_changed].copy()
+
+    def _solve_increments(self, work: Any) -> int:
+        """Solve the linear system of the current trial laws for the increments (from the
+        previous contact iteration's, if any); returns the solver's iterations (1 for a direct
+        solve)."""
+        law = self.friction_law
+        if self._grid is None:
+            from porenet.kernels.mechanics import frictional_sparse
+
+            frictional_sparse.solve(self._pattern, work.normal_stiffness, work.shear_stiffness,
+                                    law.foundation_stiffness, self._force, self._torque,
+                                    self._du, self._dtheta)  # fmt: skip
+            return 1
+        solver = self._grid_solver
+        iterations, converged, rebuilt = solver.solve(work.normal_stiffness, work.shear_stiffness,
+                                                      law.foundation_stiffness, self._force,
+                                                      self._du)  # fmt: skip
+        self.hierarchy_builds += rebuilt
+        if not converged:
+            self.unconverged_solves += 1
+        return iterations
+
+    # -- records -----------------------------------------------------------------------------
+
+    def summary(self, state: State) -> dict[str, Any]:
+        out = super().summary(state)
+        out["shear_stiffness_ratio"] = self.stiffness_ratio
+        if self.frictionless:
+            return out
+        cfg = self.config
+        out.update(
+            friction=-1.0 if cfg.friction is None else float(cfg.friction),
+            rotation=cfg.rotation,
+            mechanics_solver=self.solver,
+            solver_tolerance=cfg.solver_tolerance,
+            solver_iterations=self.solver_iterations,
+            unconverged_solves=self.unconverged_solves,
+            multigrid_builds=self.hierarchy_builds,
+            sliding_contacts=int(np.count_nonzero(self.shear.mode)),
+            largest_sliding_contacts=self.largest_sliding,
+        )
+        return out
+
+    def fields(self, state: State) -> dict[str, np.ndarray]:
+        out = super().fields(state)
+        if self.frictionless:
+            return out
+        out.update(
+            shear_force=self.shear.force.copy(),
+            slip=self.shear.slip.copy(),
+            sliding=self.shear.mode.astype(bool),
+            rotation=self.rotation.copy(),
+        )
+        return out

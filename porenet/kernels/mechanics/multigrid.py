@@ -1,0 +1,474 @@
+"""Multigrid for the scalar fields of a square particle grid (docs/model.md, "Frictional
+solid (kind hertz-mindlin)", "Solver").
+
+With particle rotations held (the ``hertz-mindlin`` solid's default), the force balance of a
+square lattice whose contacts carry normal and tangential stiffness splits into two scalar
+problems, one per displacement component: ``u_x`` is joined along x by the normal stiffness of
+the x-springs and along y by the tangential stiffness of the y-springs, and ``u_y`` the other
+way round. Each is a weighted graph Laplacian on the ``m x m`` grid of free particles (the
+fixed ring is a Dirichlet boundary), a symmetric positive definite five-point operator whose
+weights jump by up to ``1e6`` (open contacts keep only the cohesive stiffness) and whose
+anisotropy can reach ``1e3`` (``K_t / K_n = 1e-3``).
+
+This module solves such systems by the conjugate gradient method preconditioned by one
+V-cycle of a geometric multigrid that is robust to both:
+
+* **operator-dependent interpolation** (Dendy's "black box multigrid", J. Comput. Phys. 48,
+  366 (1982)): a fine point between two coarse points takes their values weighted by the
+  operator's couplings, collapsed across the line, so a crack (a weak coupling) is not
+  interpolated across;
+* **Galerkin coarse operators** ``A_c = P^T A P`` (nine-point stencils on every coarse level);
+* **alternating line Gauss-Seidel** smoothing (every row solved exactly by the Thomas
+  algorithm, then every column), robust to anisotropy in either direction; the
+  post-smoothing runs in the reverse order so that the V-cycle is a symmetric
+  preconditioner;
+* the coarsest level (at most ~15 x 15) solved by a dense Cholesky factor.
+
+Every array is flat over the levels (:class:`Hierarchy`): level ``l``'s points are
+``offset[l]:offset[l+1]`` in row-major order, its grid ``shape[l]``. Stencil slot
+``k = 3 (dy + 1) + (dx + 1)`` holds the coupling of a point to its neighbour at row offset
+``dy`` and column offset ``dx`` (slot 4 the diagonal); neighbours outside the grid are the
+Dirichlet boundary (value 0). Coarse points are the fine points of odd row and odd column
+(0-based), so any grid size coarsens.
+
+The hierarchy is built from one operator and may precondition a later one (the same grid,
+weights that changed since): the conjugate gradient iteration then uses the current operator
+(:class:`Operator`) and stays exact, only its count of iterations grows, and the caller
+rebuilds when it does (``porenet/builtin/solids/mindlin.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from porenet.kernels.jit import njit
+from porenet.kernels.mechanics.multigrid_levels import (
+    NE,
+    NW,
+    SE,
+    SW,
+    C,
+    E,
+    N,
+    S,
+    W,
+    dense_matrix,
+    fine_stencil,
+    galerkin,
+    interpolation,
+    line_factors,
+)
+
+#: Largest coarsest grid (points per side) solved by the dense factor.
+COARSEST = 15
+
+
+class Operator(NamedTuple):
+    """A five-point operator on an ``m x m`` grid from its edge weights (stiffnesses).
+
+    Attributes
+    ----------
+    across_columns : ndarray of float64, shape (m, m + 1)
+        ``across_columns[r, c]`` joins ``(r, c - 1)`` and ``(r, c)``; column ``-1`` and
+        ``m`` are the fixed boundary.
+    across_rows : ndarray of float64, shape (m + 1, m)
+        ``across_rows[r, c]`` joins ``(r - 1, c)`` and ``(r, c)``.
+    diagonal : ndarray of float64, shape (m, m)
+        Added to each point's diagonal (a foundation).
+
+    The operator is ``(A u)_p = sum_q w_pq (u_p - u_q) + diagonal_p u_p`` over the
+    neighbours ``q`` of ``p``, with ``u = 0`` on the boundary.
+    """
+
+    across_columns: np.ndarray
+    across_rows: np.ndarray
+    diagonal: np.ndarray
+
+
+
+class Hierarchy(NamedTuple):
+    """The levels of the multigrid (module docstring), flat over the levels.
+
+    Each level's grid is stored with a ring of boundary points around it (always 0), so that
+    level ``l``'s point ``(r, c)`` (0-based, interior) is at
+    ``offset[l] + (r + 1) * (cols + 2) + (c + 1)``.
+
+    Attributes
+    ----------
+    shape : ndarray of int64, shape (L, 2)
+        Rows and columns of each level's grid (without the ring).
+    offset : ndarray of int64, shape (L + 1,)
+        Level ``l`` is ``offset[l]:offset[l + 1]`` of the per-point arrays.
+    stencil : ndarray of float64, shape (9, offset[L])
+        Each level's nine-point operator (0 on the ring), one array per slot.
+    row_factor, column_factor : ndarray of float64, shape (2, offset[L])
+        The Thomas algorithm's factors of each row's (column's) tridiagonal part: the
+        eliminated upper coefficient and the inverse pivot.
+    interpolation_from : ndarray of int64, shape (offset[L], 4)
+        For a point of level ``l < L - 1``, the level-``l+1`` points (absolute indices) its
+        value is interpolated from (a ring point, with weight 0, where unused).
+    interpolation_weight : ndarray of float64, shape (offset[L], 4)
+    coarsest_factor : ndarray of float64, shape (nc, nc)
+        Lower Cholesky factor of the coarsest level's matrix (interior points, row-major).
+    """
+
+    shape: np.ndarray
+    offset: np.ndarray
+    stencil: np.ndarray
+    row_factor: np.ndarray
+    column_factor: np.ndarray
+    interpolation_from: np.ndarray
+    interpolation_weight: np.ndarray
+    coarsest_factor: np.ndarray
+
+
+class Workspace(NamedTuple):
+    """Scratch arrays of a V-cycle and of the conjugate gradient iteration.
+
+    Attributes
+    ----------
+    solution, rhs, residual : ndarray of float64, shape (offset[L],)
+        Per level (with its ring, kept 0): the correction, its right-hand side, its residual.
+    line : ndarray of float64, shape (largest side + 2,)
+        Forward elimination's scratch.
+    conjugate : ndarray of float64, shape (4, m * m)
+        The conjugate gradient's residual, search direction, ``A p`` and ``M^-1 r`` on the
+        finest grid (interior points, row-major).
+    """
+
+    solution: np.ndarray
+    rhs: np.ndarray
+    residual: np.ndarray
+    line: np.ndarray
+    conjugate: np.ndarray
+
+
+def level_shapes(m: int) -> list[tuple[int, int]]:
+    """Grid sides of the levels of an ``m x m`` grid (coarsened until at most
+    :data:`COARSEST` points per side)."""
+    shapes = [(m, m)]
+    while max(shapes[-1]) > COARSEST and min(shapes[-1]) >= 3:
+        r, c = shapes[-1]
+        shapes.append((r // 2, c // 2))
+    return shapes
+
+
+def build(operator: Operator) -> Hierarchy:
+    """The multigrid hierarchy of ``operator`` (module docstring)."""
+    m = operator.diagonal.shape[0]
+    shapes = level_shapes(m)
+    sizes = [(r + 2) * (c + 2) for r, c in shapes]
+    offset = np.zeros(len(shapes) + 1, dtype=np.int64)
+    offset[1:] = np.cumsum(sizes)
+    total = int(offset[-1])
+    shape = np.asarray(shapes, dtype=np.int64).reshape(-1, 2)
+    stencil = np.zeros((9, total))
+    frm = np.zeros((total, 4), dtype=np.int64)
+    weight = np.zeros((total, 4))
+    fine_stencil(operator, stencil)
+    for lvl in range(len(shapes) - 1):
+        interpolation(stencil, shape, offset, lvl, frm, weight)
+        galerkin(stencil, shape, offset, lvl, frm, weight)
+    row_factor, column_factor = np.zeros((2, total)), np.zeros((2, total))
+    for lvl in range(len(shapes)):
+        line_factors(stencil, shape, offset, lvl, row_factor, column_factor)
+    last = len(shapes) - 1
+    coarse = dense_matrix(stencil[:, int(offset[last]) :], *shapes[last])
+    factor = np.linalg.cholesky(coarse)
+    return Hierarchy(shape, offset, stencil, row_factor, column_factor, frm, weight, factor)
+
+
+def workspace(hierarchy: Hierarchy) -> Workspace:
+    """Scratch arrays for :func:`solve` with ``hierarchy``."""
+    total = int(hierarchy.offset[-1])
+    rows, cols = (int(v) for v in hierarchy.shape[0])
+    side = int(hierarchy.shape.max()) + 2
+    return Workspace(np.zeros(total), np.zeros(total), np.zeros(total), np.zeros(side),
+                     np.zeros((4, rows * cols)))  # fmt: skip
+
+
+@njit(helper=True)
+def _off_row(a: np.ndarray, x: np.ndarray, p: int, width: int, corners: bool) -> float:
+    """``sum a_k x_k`` over the neighbours of ``p`` off its row (``a`` the stencil, per slot;
+    the corners only if ``corners``)."""
+    below, above = p - width, p + width
+    total = a[S, p] * x[below] + a[N, p] * x[above]
+    if corners:
+        total += (a[SW, p] * x[below - 1] + a[SE, p] * x[below + 1]
+                  + a[NW, p] * x[above - 1] + a[NE, p] * x[above + 1])  # fmt: skip
+    return total
+
+
+@njit(helper=True)
+def _off_column(a: np.ndarray, x: np.ndarray, p: int, width: int, corners: bool) -> float:
+    """``sum a_k x_k`` over the neighbours of ``p`` off its column."""
+    total = a[W, p] * x[p - 1] + a[E, p] * x[p + 1]
+    if corners:
+        below, above = p - width, p + width
+        total += (a[SW, p] * x[below - 1] + a[SE, p] * x[below + 1]
+                  + a[NW, p] * x[above - 1] + a[NE, p] * x[above + 1])  # fmt: skip
+    return total
+
+
+@njit
+def _row_sweep(
+    hierarchy: Hierarchy, lvl: int, x: np.ndarray, b: np.ndarray, line: np.ndarray,
+    backward: bool,
+) -> None:  # fmt: skip
+    """One Gauss-Seidel sweep over level ``lvl``'s rows, each solved exactly."""
+    a, factor = hierarchy.stencil, hierarchy.row_factor
+    rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
+    base, width = hierarchy.offset[lvl], cols + 2
+    corners = lvl > 0
+    for step in range(rows):
+        r = rows - 1 - step if backward else step
+        start = base + (r + 1) * width + 1
+        previous = 0.0
+        for c in range(cols):
+            p = start + c
+            rhs = b[p] - _off_row(a, x, p, width, corners)
+            previous = (rhs - a[W, p] * previous) * factor[1, p]
+            line[c] = previous
+        value = 0.0
+        for c in range(cols - 1, -1, -1):
+            value = line[c] - factor[0, start + c] * value
+            x[start + c] = value
+
+
+@njit
+def _column_sweep(
+    hierarchy: Hierarchy, lvl: int, x: np.ndarray, b: np.ndarray, scratch: np.ndarray,
+    backward: bool,
+) -> None:  # fmt: skip
+    """One zebra sweep over level ``lvl``'s columns, each solved exactly: the even columns,
+    then the odd ones (the other way round when ``backward``). The columns of one colour are
+    eliminated together, row by row, so that memory is read in rows; ``scratch`` (per point)
+    holds the forward elimination."""
+    a, factor = hierarchy.stencil, hierarchy.column_factor
+    rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
+    base, width = hierarchy.offset[lvl], cols + 2
+    corners = lvl > 0
+    for half in range(2):
+        colour = 1 - half if backward else half
+        first = base + width + 1 + colour
+        for r in range(rows):
+            start = first + r * width
+            for p in range(start, start - colour + cols, 2):
+                rhs = b[p] - _off_column(a, x, p, width, corners) - a[S, p] * scratch[p - width]
+                scratch[p] = rhs * factor[1, p]
+        for step in range(rows):
+            start = first + (rows - 1 - step) * width
+            for p in range(start, start - colour + cols, 2):
+                x[p] = scratch[p] - factor[0, p] * x[p + width]
+
+
+@njit
+def _restrict_residual(hierarchy: Hierarchy, lvl: int, work: Workspace) -> None:
+    """Level ``lvl + 1``'s right-hand side: ``P^T (b - A x)`` of level ``lvl``."""
+    stencil = hierarchy.stencil
+    frm, weight = hierarchy.interpolation_from, hierarchy.interpolation_weight
+    rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
+    base, width = hierarchy.offset[lvl], cols + 2
+    x, b = work.solution, work.rhs
+    corners = lvl > 0
+    cbase, cend = hierarchy.offset[lvl + 1], hierarchy.offset[lvl + 2]
+    for p in range(cbase, cend):
+        b[p] = 0.0
+    for r in range(rows):
+        start = base + (r + 1) * width + 1
+        for p in range(start, start + cols):
+            res = (b[p] - stencil[C, p] * x[p] - stencil[W, p] * x[p - 1]
+                   - stencil[E, p] * x[p + 1]
+                   - _off_row(stencil, x, p, width, corners))  # fmt: skip
+            for j in range(4):
+                b[frm[p, j]] += weight[p, j] * res
+    corner = cbase  # unused interpolation slots point here with weight 0: keep it 0
+    b[corner] = 0.0
+
+
+@njit
+def _interpolate_correction(hierarchy: Hierarchy, lvl: int, x: np.ndarray) -> None:
+    """``x += P x_c`` on level ``lvl``."""
+    frm, weight = hierarchy.interpolation_from, hierarchy.interpolation_weight
+    rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
+    base, width = hierarchy.offset[lvl], cols + 2
+    for r in range(rows):
+        start = base + (r + 1) * width + 1
+        for p in range(start, start + cols):
+            x[p] += (weight[p, 0] * x[frm[p, 0]] + weight[p, 1] * x[frm[p, 1]]
+                     + weight[p, 2] * x[frm[p, 2]] + weight[p, 3] * x[frm[p, 3]])  # fmt: skip
+
+
+@njit
+def _coarsest_solve(hierarchy: Hierarchy, lvl: int, work: Workspace) -> None:
+    """The coarsest level exactly, by its dense Cholesky factor."""
+    factor = hierarchy.coarsest_factor
+    rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
+    base, width = hierarchy.offset[lvl], cols + 2
+    size = rows * cols
+    y = work.residual[base : base + size]  # scratch
+    for i in range(size):
+        s = work.rhs[base + (i // cols + 1) * width + i % cols + 1]
+        for j in range(i):
+            s -= factor[i, j] * y[j]
+        y[i] = s / factor[i, i]
+    for i in range(size - 1, -1, -1):
+        s = y[i]
+        for j in range(i + 1, size):
+            s -= factor[j, i] * y[j]
+        y[i] = s / factor[i, i]
+    for i in range(size):
+        work.solution[base + (i // cols + 1) * width + i % cols + 1] = y[i]
+    for i in range(size):
+        y[i] = 0.0
+
+
+@njit
+def v_cycle(hierarchy: Hierarchy, work: Workspace) -> None:
+    """One symmetric V-cycle: level 0 of ``work.solution`` becomes ``M^-1`` applied to
+    level 0 of ``work.rhs`` (module docstring)."""
+    x, b, line = work.solution, work.rhs, work.line
+    levels = hierarchy.shape.shape[0]
+    for lvl in range(levels - 1):
+        x[hierarchy.offset[lvl] : hierarchy.offset[lvl + 1]] = 0.0
+        _row_sweep(hierarchy, lvl, x, b, line, False)
+        _column_sweep(hierarchy, lvl, x, b, work.residual, False)
+        _restrict_residual(hierarchy, lvl, work)
+    _coarsest_solve(hierarchy, levels - 1, work)
+    for lvl in range(levels - 2, -1, -1):
+        _interpolate_correction(hierarchy, lvl, x)
+        _column_sweep(hierarchy, lvl, x, b, work.residual, True)
+        _row_sweep(hierarchy, lvl, x, b, line, True)
+
+
+@njit
+def apply_operator(operator: Operator, x: np.ndarray, out: np.ndarray) -> None:
+    """``out = A x`` for a five-point :class:`Operator` (``x`` and ``out`` flat, m*m)."""
+    wc, wr, d = operator.across_columns, operator.across_rows, operator.diagonal
+    m = d.shape[0]
+    for r in range(m):
+        for c in range(m):
+            p = r * m + c
+            xp = x[p]
+            v = d[r, c] * xp
+            v += wc[r, c] * (xp - (x[p - 1] if c > 0 else 0.0))
+            v += wc[r, c + 1] * (xp - (x[p + 1] if c < m - 1 else 0.0))
+            v += wr[r, c] * (xp - (x[p - m] if r > 0 else 0.0))
+            v += wr[r + 1, c] * (xp - (x[p + m] if r < m - 1 else 0.0))
+            out[p] = v
+
+
+@njit
+def largest_drift(operator: Operator, reference: Operator) -> float:
+    """Largest relative change of an edge weight between ``reference`` (the operator a
+    hierarchy was built from) and ``operator``: ``|w - w_0| / max(w, w_0)``."""
+    largest = 0.0
+    for a, b in ((operator.across_columns, reference.across_columns),
+                 (operator.across_rows, reference.across_rows)):  # fmt: skip
+        flat_a, flat_b = a.ravel(), b.ravel()
+        for i in range(flat_a.shape[0]):
+            w, w0 = flat_a[i], flat_b[i]
+            top = max(w, w0)
+            if top > 0.0:
+                largest = max(largest, abs(w - w0) / top)
+    return largest
+
+
+@njit
+def largest_deformation(m: int, x: np.ndarray) -> float:
+    """Largest change of an edge's length that a displacement increment ``x`` (flat, m*m)
+    makes: ``max |x_p - x_q|`` over neighbours (and ``|x_p|`` next to the boundary)."""
+    largest = 0.0
+    for r in range(m):
+        for c in range(m):
+            p = r * m + c
+            left = x[p - 1] if c > 0 else 0.0
+            below = x[p - m] if r > 0 else 0.0
+            largest = max(largest, abs(x[p] - left), abs(x[p] - below))
+            if c == m - 1 or r == m - 1:
+                largest = max(largest, abs(x[p]))
+    return largest
+
+
+@njit
+def _precondition(hierarchy: Hierarchy, work: Workspace, r: np.ndarray, z: np.ndarray) -> None:
+    """``z = M^-1 r`` (one V-cycle), on the finest grid's interior points."""
+    rows, cols = hierarchy.shape[0, 0], hierarchy.shape[0, 1]
+    width = cols + 2
+    for i in range(rows):
+        for j in range(cols):
+            work.rhs[(i + 1) * width + j + 1] = r[i * cols + j]
+    v_cycle(hierarchy, work)
+    for i in range(rows):
+        for j in range(cols):
+            z[i * cols + j] = work.solution[(i + 1) * width + j + 1]
+
+
+@njit
+def solve(
+    operator: Operator,
+    hierarchy: Hierarchy,
+    work: Workspace,
+    rhs: np.ndarray,
+    x: np.ndarray,
+    deformation_tolerance: float,
+    force_tolerance: float,
+    max_iterations: int,
+) -> int:
+    """Solve ``A x = rhs`` by the preconditioned conjugate gradient method, from the ``x``
+    given (flat, m*m, updated in place).
+
+    Stops when the correction one more V-cycle would make deforms no edge by more than
+    ``deformation_tolerance`` (the V-cycle's output estimates the remaining error; that last
+    correction is applied), or when no residual force exceeds ``force_tolerance``
+    (round-off), or after ``max_iterations``.
+
+    Returns
+    -------
+    int
+        Iterations done (V-cycles applied); ``-1`` if it stopped at ``max_iterations``
+        without meeting either criterion, ``-2`` if a non-finite value appeared.
+    """
+    m = operator.diagonal.shape[0]
+    r, pdir, q, z = work.conjugate[0], work.conjugate[1], work.conjugate[2], work.conjugate[3]
+    apply_operator(operator, x, q)
+    largest = 0.0
+    for p in range(m * m):
+        r[p] = rhs[p] - q[p]
+        largest = max(largest, abs(r[p]))
+    if largest <= force_tolerance:
+        return 0
+    rz = 0.0
+    for it in range(1, max_iterations + 1):
+        _precondition(hierarchy, work, r, z)
+        if largest_deformation(m, z) <= deformation_tolerance:
+            for p in range(m * m):
+                x[p] += z[p]
+            return it
+        rz_new = 0.0
+        for p in range(m * m):
+            rz_new += r[p] * z[p]
+        beta = rz_new / rz if it > 1 else 0.0
+        for p in range(m * m):
+            pdir[p] = z[p] + beta * pdir[p]
+        rz = rz_new
+        apply_operator(operator, pdir, q)
+        pq = 0.0
+        for p in range(m * m):
+            pq += pdir[p] * q[p]
+        if not math.isfinite(pq):
+            return -2
+        if pq <= 0.0:
+            return it
+        alpha = rz / pq
+        largest = 0.0
+        for p in range(m * m):
+            x[p] += alpha * pdir[p]
+            r[p] -= alpha * q[p]
+            largest = max(largest, abs(r[p]))
+        if largest <= force_tolerance:
+            return it
+    return -1
