@@ -4,6 +4,8 @@ update, hierarchies reused while they precondition well (docs/model.md, "Frictio
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
 from porenet.kernels.mechanics import multigrid as mg
@@ -19,11 +21,30 @@ from porenet.kernels.mechanics.grid import (
 #: first solve after the hierarchy was built (the operator has drifted from it).
 REBUILD_MARGIN = 4
 
-#: ... or before a solve, when an edge's stiffness changed by more than this fraction since the
-#: build (a contact opened, closed, started or stopped sliding): the V-cycle's correction is
-#: the solver's estimate of the error left, and it is a good one only while the hierarchy
-#: is close to the operator.
+#: ... or before a solve, when more than :data:`REBUILD_EDGES` edges' stiffnesses changed by
+#: more than this fraction of themselves since the build (contacts that opened, closed,
+#: started or stopped sliding): the V-cycle's correction is the solver's estimate of the error
+#: left, and it is a good one only while the hierarchy is close to the operator. Fewer
+#: changes are left to the finest level, which follows the operator at every solve.
 REBUILD_DRIFT = 0.5
+REBUILD_EDGES = 32
+
+
+_POOL: ThreadPoolExecutor | None = None
+
+
+def _pool() -> ThreadPoolExecutor:
+    """One worker thread, shared by every solver of the process, for the second component."""
+    global _POOL
+    if _POOL is None:
+        _POOL = ThreadPoolExecutor(max_workers=1, thread_name_prefix="porenet-multigrid")
+    return _POOL
+
+
+def _two_threads() -> bool:
+    from porenet.threads import thread_setting
+
+    return thread_setting().most >= 2
 
 
 class GridSolver:
@@ -33,9 +54,10 @@ class GridSolver:
 
     The hierarchies are built from the operator of one update and kept for later ones (whose
     stiffnesses have changed a little): the iteration is exact with the current operator
-    whatever the preconditioner; a hierarchy is rebuilt when an edge's stiffness changed by
-    more than :data:`REBUILD_DRIFT` of itself since the build, and when its solve needs
-    :data:`REBUILD_MARGIN` more iterations than right after it was built.
+    whatever the preconditioner. The finest level (the smoother) is brought up to date before
+    every solve; the whole hierarchy is rebuilt when more than :data:`REBUILD_EDGES` edges'
+    stiffnesses changed by more than :data:`REBUILD_DRIFT` of themselves since the build, and
+    when a solve needs :data:`REBUILD_MARGIN` more iterations than right after it was built.
 
     Parameters
     ----------
@@ -68,7 +90,10 @@ class GridSolver:
     ) -> tuple[int, bool, int]:  # fmt: skip
         """Solve for ``du`` ((n_particles, 2), in/out: its value on entry is the first
         guess) under the out-of-balance ``force`` ((n_particles, 2)) with the springs'
-        normal and tangential stiffnesses of this update.
+        normal and tangential stiffnesses of this update. ``u_x`` and ``u_y`` are solved at
+        the same time on two threads when the run may use two (:func:`porenet.threads.
+        thread_setting`): two independent solves of tens of milliseconds, with no barrier
+        between them; the result does not depend on it.
 
         Returns
         -------
@@ -83,22 +108,34 @@ class GridSolver:
                        op_x, op_y)  # fmt: skip
         scatter_fields(self.layout, force, self._rhs[0], self._rhs[1])
         scatter_fields(self.layout, du, self._x[0], self._x[1])
-        total, converged, rebuilt = 0, True, 0
-        for axis, op in enumerate(self._operators):
-            if (self._hierarchies[axis] is None
-                    or mg.largest_drift(op, self._built_from[axis]) > REBUILD_DRIFT):  # fmt: skip
-                rebuilt += self._build(axis, op)
-            its = self._run(axis, op)
-            if its < 0 or its > max(self._baseline[axis], 2) + REBUILD_MARGIN:
-                # drifted (or failed): rebuild from this operator and go on from where it is
-                rebuilt += self._build(axis, op)
-                more = self._run(axis, op)
-                its = (abs(its) if its > 0 else self.max_iterations) + abs(more)
-                if more < 0:
-                    converged = False
-            total += its
+        if _two_threads():
+            other = _pool().submit(self._field, 1)
+            results = [self._field(0), other.result()]
+        else:
+            results = [self._field(0), self._field(1)]
         gather_fields(self.layout, self._x[0], self._x[1], du)
-        return total, converged, rebuilt
+        return (sum(r[0] for r in results), all(r[1] for r in results),
+                sum(r[2] for r in results))  # fmt: skip
+
+    def _field(self, axis: int) -> tuple[int, bool, int]:
+        """Solve one component: (V-cycles, converged, hierarchies built)."""
+        op = self._operators[axis]
+        rebuilt = 0
+        hierarchy = self._hierarchies[axis]
+        reference = self._built_from[axis]
+        if hierarchy is None or mg.drifted_edges(op, reference, REBUILD_DRIFT) > REBUILD_EDGES:
+            rebuilt += self._build(axis, op)
+        else:
+            mg.refresh_finest(hierarchy, op)
+        its = self._run(axis, op)
+        converged = its >= 0
+        if its < 0 or its > max(self._baseline[axis], 2) + REBUILD_MARGIN:
+            # drifted (or failed): rebuild from this operator and go on from where it is
+            rebuilt += self._build(axis, op)
+            more = self._run(axis, op)
+            its = (its if its > 0 else self.max_iterations) + abs(more)
+            converged = more >= 0
+        return its, converged, rebuilt
 
     def _build(self, axis: int, op: mg.Operator) -> int:
         hierarchy = mg.build(op)

@@ -3,6 +3,7 @@ optional Coulomb sliding (docs/model.md, "Frictional solid (kind hertz-mindlin)"
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import numpy as np
@@ -104,6 +105,8 @@ class HertzMindlinSolid(HertzSolid):
         self.unconverged_solves = 0
         self.hierarchy_builds = 0
         self.largest_sliding = 0
+        #: Wall time spent in updates that solved something (s).
+        self.seconds = 0.0
         self._series["sliding_contacts"] = []
         self._series["solver_iterations"] = []
         if self._grid is not None:
@@ -136,7 +139,9 @@ class HertzMindlinSolid(HertzSolid):
                                   self._load, self._no_chain, self._no_dirty)  # fmt: skip
         if refreshed == 0 and self.updates > 0:
             return np.zeros(0, dtype=np.int64)
+        start = time.perf_counter()
         changed = self._solve_and_apply(state)
+        self.seconds += time.perf_counter() - start
         self.updates += 1
         stats, series = self._stats, self._series
         series["time"].append(state.time)
@@ -239,6 +244,7 @@ class HertzMindlinSolid(HertzSolid):
             solver_iterations=self.solver_iterations,
             unconverged_solves=self.unconverged_solves,
             multigrid_builds=self.hierarchy_builds,
+            mechanics_time_s=self.seconds,
             sliding_contacts=int(np.count_nonzero(self.shear.mode)),
             largest_sliding_contacts=self.largest_sliding,
         )

@@ -33,8 +33,11 @@ Dirichlet boundary (value 0). Coarse points are the fine points of odd row and o
 
 The hierarchy is built from one operator and may precondition a later one (the same grid,
 weights that changed since): the conjugate gradient iteration then uses the current operator
-(:class:`Operator`) and stays exact, only its count of iterations grows, and the caller
-rebuilds when it does (``porenet/builtin/solids/mindlin.py``).
+(:class:`Operator`) and stays exact, only its count of iterations grows. :func:`refresh_finest`
+brings the finest level's smoother up to date at the cost of one pass over the grid (local
+changes, a contact that opens or starts sliding, are then seen where they are), and the
+caller rebuilds the whole hierarchy when many edges changed or the iterations grow
+(``porenet/builtin/solids/grid_solver.py``).
 """
 
 from __future__ import annotations
@@ -362,19 +365,28 @@ def apply_operator(operator: Operator, x: np.ndarray, out: np.ndarray) -> None:
 
 
 @njit
-def largest_drift(operator: Operator, reference: Operator) -> float:
-    """Largest relative change of an edge weight between ``reference`` (the operator a
-    hierarchy was built from) and ``operator``: ``|w - w_0| / max(w, w_0)``."""
-    largest = 0.0
+def drifted_edges(operator: Operator, reference: Operator, threshold: float) -> int:
+    """Edges whose weight changed by more than ``threshold`` of itself between ``reference``
+    (the operator a hierarchy was built from) and ``operator``: ``|w - w_0| > threshold
+    max(w, w_0)``."""
+    count = 0
     for a, b in ((operator.across_columns, reference.across_columns),
                  (operator.across_rows, reference.across_rows)):  # fmt: skip
         flat_a, flat_b = a.ravel(), b.ravel()
         for i in range(flat_a.shape[0]):
             w, w0 = flat_a[i], flat_b[i]
-            top = max(w, w0)
-            if top > 0.0:
-                largest = max(largest, abs(w - w0) / top)
-    return largest
+            if abs(w - w0) > threshold * max(w, w0):
+                count += 1
+    return count
+
+
+def refresh_finest(hierarchy: Hierarchy, operator: Operator) -> None:
+    """Make the finest level (its stencil and line factors: the smoother) the current
+    ``operator``'s, in place, keeping the interpolation and the coarse levels built from an
+    earlier one (module docstring)."""
+    fine_stencil(operator, hierarchy.stencil)
+    line_factors(hierarchy.stencil, hierarchy.shape, hierarchy.offset, 0, hierarchy.row_factor,
+                 hierarchy.column_factor)  # fmt: skip
 
 
 @njit

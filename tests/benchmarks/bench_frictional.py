@@ -1,0 +1,151 @@
+"""Benchmark: the frictional solid (kind hertz-mindlin) at the paper's size (not a test).
+
+    python tests/benchmarks/bench_frictional.py updates            # one update, n = 400
+    python tests/benchmarks/bench_frictional.py run                # Fig. 5 at N_f = 10
+    python tests/benchmarks/bench_frictional.py run --n 200 --set solid.friction=0.3
+    python tests/benchmarks/bench_frictional.py run --threads 1 2 --loads 0 1
+
+``updates``: builds the 400 x 400 lattice (lambda = 0.1, N_f = 1, K_t / K_n = 0.5) and times
+``HertzMindlinSolid.update`` from the prestressed state, as ``bench_mechanics.py`` does for
+the Hertzian solid: under the pressure field of a drained disc of radius 0.2 L (the invader
+at 2 gamma/a; the worst case), then one more pore drained at its edge (a typical update).
+Each repeat starts from a fresh solver (its multigrid hierarchies are built in the first
+update: "builds").
+
+``run``: ``examples/scenes/fig5-mindlin.toml`` (Fig. 5's scene at N_f = 10 with the frictional
+solid) to breakthrough, each run a new process (warm kernel cache), optionally at several
+thread counts and beside busy processes (``python -c "while True: pass"``, started and stopped
+here). Prints the wall time, the mechanical updates and the time the solid spent in them
+(``mechanics_time_s``), so the amortised cost of an update.
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENE = ROOT / "examples" / "scenes" / "fig5-mindlin.toml"
+
+
+def updates(n: int, repeat: int) -> None:
+    from porenet.simulation import Simulation
+
+    scene = {
+        "lattice": {"n": n, "disorder": 0.1},
+        "fluid": {"kind": "invasion-percolation"},
+        "solid": {"kind": "hertz-mindlin", "fracturing_number": 1.0, "shear_stiffness_ratio": 0.5},
+    }
+    xy = None
+    disc_times, pore_times, notes = [], [], ""
+    for _ in range(repeat + 1):  # the first builds and compiles: not counted
+        sim = Simulation.from_scene(scene)
+        solid, state = sim.solid, sim.state
+        solid.setup(state)
+        if xy is None:
+            xy = sim.lattice.pore_coords
+            centre = xy.mean(axis=0)
+            pressure = np.where(np.hypot(*(xy - centre).T) < 0.2 * 2 * n, 2.0, 0.0)
+            edge = int(np.flatnonzero((pressure == 0) & np.roll(pressure > 0, 1))[0])
+            after = pressure.copy()
+            after[edge] = 2.0
+        t0 = time.perf_counter()
+        solid.update(state, pressure)
+        t1 = time.perf_counter()
+        cycles, builds = solid.solver_iterations, solid.hierarchy_builds
+        solid.update(state, after)
+        t2 = time.perf_counter()
+        disc_times.append(t1 - t0)
+        pore_times.append(t2 - t1)
+        notes = (f"disc: {cycles} V-cycles, {builds} builds, {solid.n_removed} contacts open; "
+                 f"one pore: {solid.solver_iterations - cycles} V-cycles, "
+                 f"{solid.hierarchy_builds - builds} builds")  # fmt: skip
+    disc_times, pore_times = disc_times[1:], pore_times[1:]
+    print(f"n = {n}: update under a new pressure disc: {1e3 * statistics.median(disc_times):.1f} "
+          f"ms median of {repeat}; one more drained pore: "
+          f"{1e3 * statistics.median(pore_times):.1f} ms ({notes})")  # fmt: skip
+
+
+def one_run(args: list[str], threads: str) -> dict:
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "run.h5"
+        cmd = [sys.executable, "-m", "porenet", "run", str(SCENE), "-o", str(out), "-q",
+               "--threads", threads, *args]  # fmt: skip
+        t0 = time.perf_counter()
+        subprocess.run(cmd, check=True)
+        wall = time.perf_counter() - t0
+        import h5py
+
+        with h5py.File(out) as f:
+            summary = {k: (v.item() if hasattr(v, "item") else v) for k, v in f["summary"].attrs.items()}
+    summary["process_wall_s"] = wall
+    return summary
+
+
+def runs(args: argparse.Namespace) -> None:
+    extra = [item for kv in args.set for item in ("--set", kv)]
+    if args.n:
+        extra += ["--set", f"lattice.n={args.n}"]
+    rows = []
+    for load in args.loads:
+        busy = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(load)]
+        try:
+            for _ in range(args.repeat):
+                for threads in args.threads:
+                    s = one_run(extra, threads)
+                    per = 1e3 * s["mechanics_time_s"] / max(s["mechanical_updates"], 1)
+                    rows.append((load, threads, s["process_wall_s"], s["mechanics_time_s"],
+                                 s["mechanical_updates"], per, s))  # fmt: skip
+                    print(f"busy {load} threads {threads}: wall {s['process_wall_s']:.1f} s, "
+                          f"mechanics {s['mechanics_time_s']:.1f} s over "
+                          f"{s['mechanical_updates']} updates ({per:.1f} ms each), "
+                          f"{s['n_drained']} drained, {s['springs_removed']} open, "
+                          f"V-cycles {s['solver_iterations']}, builds {s['multigrid_builds']}, "
+                          f"D_f {s.get('fractal_dimension', float('nan')):.3f}", flush=True)  # fmt: skip
+        finally:
+            for p in busy:
+                p.kill()
+    print("\n| busy processes | --threads | median wall (s) | median mechanics (s) | updates | "
+          "ms per update |")  # fmt: skip
+    print("|---|---|---|---|---|---|")
+    for load in args.loads:
+        for threads in args.threads:
+            sel = [r for r in rows if r[0] == load and r[1] == threads]
+            print(f"| {load} | {threads} | {statistics.median(r[2] for r in sel):.1f} | "
+                  f"{statistics.median(r[3] for r in sel):.1f} | {sel[0][4]} | "
+                  f"{statistics.median(r[5] for r in sel):.1f} |")  # fmt: skip
+    if args.json:
+        Path(args.json).write_text(json.dumps([r[6] for r in rows], indent=1))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="what", required=True)
+    up = sub.add_parser("updates")
+    up.add_argument("--n", type=int, default=400)
+    up.add_argument("--repeat", type=int, default=5)
+    rn = sub.add_parser("run")
+    rn.add_argument("--n", type=int, default=None)
+    rn.add_argument("--set", action="append", default=[], help="KEY=VALUE for the scene")
+    rn.add_argument("--threads", nargs="+", default=["auto"])
+    rn.add_argument("--loads", nargs="+", type=int, default=[0])
+    rn.add_argument("--repeat", type=int, default=1)
+    rn.add_argument("--json", default=None, help="write every run's summary here")
+    args = parser.parse_args()
+    if args.what == "updates":
+        updates(args.n, args.repeat)
+    else:
+        runs(args)
+
+
+if __name__ == "__main__":
+    main()
