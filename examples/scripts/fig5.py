@@ -38,9 +38,12 @@ def make_scene(
     cap: float | None = None,
     foundation: float | None = None,
     seed: int | None = None,
+    solid: dict | None = None,
 ) -> dict:
     """The scene at n pores per side, Ca* = 10, at fracturing number ``nf`` (None: rigid),
-    with the solid's ``aperture_cap`` and ``foundation`` and the scene's seed if given."""
+    with the solid's ``aperture_cap`` and ``foundation`` and the scene's seed if given, and
+    the other ``[solid]`` fields in ``solid`` (for example ``{"kind": "hertz-mindlin",
+    "shear_stiffness_ratio": 0.3}``)."""
     with SCENE.open("rb") as f:
         scene = tomllib.load(f)
     scene["lattice"]["n"] = n
@@ -55,6 +58,7 @@ def make_scene(
             scene["solid"]["aperture_cap"] = cap
         if foundation is not None:
             scene["solid"]["foundation"] = foundation
+        scene["solid"].update(solid or {})
     return scene
 
 
@@ -65,9 +69,10 @@ def run(
     cap: float | None = None,
     foundation: float | None = None,
     seed: int | None = None,
+    solid: dict | None = None,
 ) -> tuple[float, object]:
     """Run :func:`make_scene`'s scene (to ``output`` if given); its wall time and result."""
-    sim = Simulation.from_scene(make_scene(n, nf, cap, foundation, seed), output=output)
+    sim = Simulation.from_scene(make_scene(n, nf, cap, foundation, seed, solid), output=output)
     t0 = time.perf_counter()
     result = sim.run()
     return time.perf_counter() - t0, result

@@ -22,7 +22,6 @@ here). Prints the wall time, the mechanical updates and the time the solid spent
 from __future__ import annotations
 
 import argparse
-import copy
 import json
 import statistics
 import subprocess
@@ -86,7 +85,8 @@ def one_run(args: list[str], threads: str) -> dict:
         import h5py
 
         with h5py.File(out) as f:
-            summary = {k: (v.item() if hasattr(v, "item") else v) for k, v in f["summary"].attrs.items()}
+            attrs = f["summary"].attrs
+            summary = {k: (v.item() if hasattr(v, "item") else v) for k, v in attrs.items()}
     summary["process_wall_s"] = wall
     return summary
 
@@ -110,7 +110,8 @@ def runs(args: argparse.Namespace) -> None:
                           f"{s['mechanical_updates']} updates ({per:.1f} ms each), "
                           f"{s['n_drained']} drained, {s['springs_removed']} open, "
                           f"V-cycles {s['solver_iterations']}, builds {s['multigrid_builds']}, "
-                          f"D_f {s.get('fractal_dimension', float('nan')):.3f}", flush=True)  # fmt: skip
+                          f"D_f {s.get('fractal_dimension', float('nan')):.3f}",
+                          flush=True)  # fmt: skip
         finally:
             for p in busy:
                 p.kill()

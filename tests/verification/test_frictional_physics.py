@@ -158,7 +158,7 @@ def test_hard_cases_stay_finite_and_balanced(solid, fluid):
     final = res.data.mechanics_final
     for key in ("displacement", "shear_force", "rotation", "spring_force"):
         assert np.all(np.isfinite(final[key])), key
-    # the multigrid's default tolerance (1e-4 a of deformation) leaves ~K 1e-4 a out of
+    # the multigrid's default tolerance (1e-3 a of deformation) leaves ~K 1e-3 a out of
     # balance, carried to the next update: the residual stays within 10x that, K the stiffest
     # contact's (at N_f = 1e3 the pressures crush the solid, compressions reach 1e4 a and
     # stiffnesses 100 K_0: a run the summary flags as suspect)
@@ -166,7 +166,7 @@ def test_hard_cases_stay_finite_and_balanced(solid, fluid):
     h0 = 2 * 0.05 * A
     squeezed = max(final["spring_compression"].max() / h0, 1.0)
     stiffest = _prestress_stiffness(solid["fracturing_number"]) * squeezed**0.5
-    assert residual < 1e-3 * A * stiffest
+    assert residual < 1e-2 * A * stiffest
     assert res.summary["unconverged_solves"] == 0
 
 

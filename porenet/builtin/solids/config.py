@@ -192,7 +192,7 @@ class HertzMindlinConfig(HertzConfig):
         "applies).",
     )
     solver_tolerance: float = Field(
-        1e-4,
+        1e-3,
         ge=0,
         description="Multigrid: stop when the correction one more iteration would make "
         "changes no contact's compression or tangential displacement by more than this, in "

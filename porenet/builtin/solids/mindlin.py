@@ -15,6 +15,11 @@ from porenet.core.interfaces import Lattice, RunContext
 from porenet.core.state import State
 from porenet.kernels.mechanics.springs import Stat
 
+#: The apertures the fluid sees follow the geometric ones once they lag by this fraction of
+#: the solver's tolerance (a global solve moves every contact a little; docs/model.md,
+#: "Frictional solid (kind hertz-mindlin)").
+APERTURE_LAG = 0.01
+
 
 class HertzMindlinSolid(HertzSolid):
     """The :class:`~porenet.builtin.solids.hertz.HertzSolid` with frictional contacts.
@@ -107,6 +112,9 @@ class HertzMindlinSolid(HertzSolid):
         self.largest_sliding = 0
         #: Wall time spent in updates that solved something (s).
         self.seconds = 0.0
+        #: How far (a) the apertures the fluid sees may lag the geometric ones: a hundredth of
+        #: the solver's tolerance (0, exact, when it solves to round-off).
+        self.aperture_lag = APERTURE_LAG * cfg.solver_tolerance
         self._series["sliding_contacts"] = []
         self._series["solver_iterations"] = []
         if self._grid is not None:
@@ -184,7 +192,7 @@ class HertzMindlinSolid(HertzSolid):
                 break
         n_changed, largest, opened, sliding, finite = fr.apply_increments(
             springs, self.shear, law, work, self._du, self._dtheta, state.displacement,
-            self.rotation, self.aperture_map, self._changed,
+            self.rotation, self.aperture_map, self._changed, self.aperture_lag,
         )  # fmt: skip
         if not finite:
             raise self._numerical_error(state, "displacement, rotation or force")

@@ -68,7 +68,7 @@ from porenet.kernels.mechanics.springs import (
     REDUCED_RADIUS,
     ApertureMap,
     SpringState,
-    apply_spring,
+    apply_spring_lagged,
     next_mode,
 )
 
@@ -333,10 +333,12 @@ def apply_increments(
     rotation: np.ndarray,
     aperture: ApertureMap,
     changed: np.ndarray,
+    aperture_lag: float,
 ) -> tuple[int, float, int, int, bool]:
     """Apply a settled update in place: the springs' compressions, normal forces and
-    apertures (:func:`porenet.kernels.mechanics.springs.apply_spring`), the tangential
-    forces, modes and slip, and the particles' displacements and rotations.
+    apertures (:func:`porenet.kernels.mechanics.springs.apply_spring_lagged`: the fluid's
+    aperture follows once it is ``aperture_lag`` behind), the tangential forces, modes and
+    slip, and the particles' displacements and rotations.
 
     Returns
     -------
@@ -381,7 +383,7 @@ def apply_increments(
         shear.force[s] = s_new
         shear.mode[s] = work.shear_mode[s] if mode == IN_CONTACT else STICK
         if dh != 0.0 or f_new != springs.force[s]:
-            change = apply_spring(s, dh, f_new, springs, aperture)
+            change = apply_spring_lagged(s, dh, f_new, springs, aperture, aperture_lag)
             if change > 0.0:
                 changed[n_changed] = s
                 n_changed += 1

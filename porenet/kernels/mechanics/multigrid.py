@@ -18,10 +18,10 @@ V-cycle of a geometric multigrid that is robust to both:
   operator's couplings, collapsed across the line, so a crack (a weak coupling) is not
   interpolated across;
 * **Galerkin coarse operators** ``A_c = P^T A P`` (nine-point stencils on every coarse level);
-* **alternating line Gauss-Seidel** smoothing (every row solved exactly by the Thomas
-  algorithm, then every column), robust to anisotropy in either direction; the
-  post-smoothing runs in the reverse order so that the V-cycle is a symmetric
-  preconditioner;
+* **line Gauss-Seidel** smoothing along the strongly coupled direction (every row, or every
+  column in two colours, solved exactly by the Thomas algorithm), robust to anisotropy
+  along the lines; the post-smoothing runs in the reverse order so that the V-cycle is a
+  symmetric preconditioner;
 * the coarsest level (at most ~15 x 15) solved by a dense Cholesky factor.
 
 Every array is flat over the levels (:class:`Hierarchy`): level ``l``'s points are
@@ -49,20 +49,23 @@ import numpy as np
 
 from porenet.kernels.jit import njit
 from porenet.kernels.mechanics.multigrid_levels import (
-    NE,
-    NW,
-    SE,
-    SW,
     C,
     E,
     N,
     S,
     W,
+    compact_interpolation,
     dense_matrix,
     fine_stencil,
     galerkin,
     interpolation,
+)
+from porenet.kernels.mechanics.multigrid_smoothing import (
+    column_sweep,
     line_factors,
+    off_row,
+    row_sweep,
+    smoothing_lines,
 )
 
 #: Largest coarsest grid (points per side) solved by the dense factor.
@@ -110,12 +113,14 @@ class Hierarchy(NamedTuple):
     row_factor, column_factor : ndarray of float64, shape (2, offset[L])
         The Thomas algorithm's factors of each row's (column's) tridiagonal part: the
         eliminated upper coefficient and the inverse pivot.
-    interpolation_from : ndarray of int64, shape (offset[L], 4)
-        For a point of level ``l < L - 1``, the level-``l+1`` points (absolute indices) its
-        value is interpolated from (a ring point, with weight 0, where unused).
-    interpolation_weight : ndarray of float64, shape (offset[L], 4)
+    interpolation_weight : ndarray of float64, shape (4, offset[L])
+        For the point ``(r, c)`` of level ``l < L - 1``, the weights of the level-``l+1``
+        points at ring-padded ``(r // 2 + a, c // 2 + b)``, slot ``2 a + b`` (each point lies
+        in the cell of those four; weight 0 where one is not a parent).
     coarsest_factor : ndarray of float64, shape (nc, nc)
         Lower Cholesky factor of the coarsest level's matrix (interior points, row-major).
+    sweeps : int
+        The smoother's lines: 1 rows, 2 columns (:func:`smoothing_lines`), 3 both.
     """
 
     shape: np.ndarray
@@ -123,9 +128,9 @@ class Hierarchy(NamedTuple):
     stencil: np.ndarray
     row_factor: np.ndarray
     column_factor: np.ndarray
-    interpolation_from: np.ndarray
     interpolation_weight: np.ndarray
     coarsest_factor: np.ndarray
+    sweeps: int
 
 
 class Workspace(NamedTuple):
@@ -137,9 +142,9 @@ class Workspace(NamedTuple):
         Per level (with its ring, kept 0): the correction, its right-hand side, its residual.
     line : ndarray of float64, shape (largest side + 2,)
         Forward elimination's scratch.
-    conjugate : ndarray of float64, shape (4, m * m)
-        The conjugate gradient's residual, search direction, ``A p`` and ``M^-1 r`` on the
-        finest grid (interior points, row-major).
+    conjugate : ndarray of float64, shape (3, offset[1])
+        The conjugate gradient's iterate, search direction and ``A p`` on the finest level
+        (ring-padded; its residual and ``M^-1 r`` are level 0 of ``rhs`` and ``solution``).
     """
 
     solution: np.ndarray
@@ -169,7 +174,7 @@ def build(operator: Operator) -> Hierarchy:
     total = int(offset[-1])
     shape = np.asarray(shapes, dtype=np.int64).reshape(-1, 2)
     stencil = np.zeros((9, total))
-    frm = np.zeros((total, 4), dtype=np.int64)
+    frm = np.zeros((total, 4), dtype=np.int64)  # the interpolation as built: parents, weights
     weight = np.zeros((total, 4))
     fine_stencil(operator, stencil)
     for lvl in range(len(shapes) - 1):
@@ -177,132 +182,82 @@ def build(operator: Operator) -> Hierarchy:
         galerkin(stencil, shape, offset, lvl, frm, weight)
     row_factor, column_factor = np.zeros((2, total)), np.zeros((2, total))
     for lvl in range(len(shapes)):
-        line_factors(stencil, shape, offset, lvl, row_factor, column_factor)
+        line_factors(stencil, shape, offset, lvl, row_factor, column_factor, 3)
     last = len(shapes) - 1
     coarse = dense_matrix(stencil[:, int(offset[last]) :], *shapes[last])
     factor = np.linalg.cholesky(coarse)
-    return Hierarchy(shape, offset, stencil, row_factor, column_factor, frm, weight, factor)
+    compact = np.zeros((4, total))
+    for lvl in range(len(shapes) - 1):
+        compact_interpolation(shape, offset, lvl, frm, weight, compact)
+    return Hierarchy(shape, offset, stencil, row_factor, column_factor, compact, factor,
+                     smoothing_lines(operator))  # fmt: skip
 
 
 def workspace(hierarchy: Hierarchy) -> Workspace:
     """Scratch arrays for :func:`solve` with ``hierarchy``."""
     total = int(hierarchy.offset[-1])
-    rows, cols = (int(v) for v in hierarchy.shape[0])
     side = int(hierarchy.shape.max()) + 2
     return Workspace(np.zeros(total), np.zeros(total), np.zeros(total), np.zeros(side),
-                     np.zeros((4, rows * cols)))  # fmt: skip
-
-
-@njit(helper=True)
-def _off_row(a: np.ndarray, x: np.ndarray, p: int, width: int, corners: bool) -> float:
-    """``sum a_k x_k`` over the neighbours of ``p`` off its row (``a`` the stencil, per slot;
-    the corners only if ``corners``)."""
-    below, above = p - width, p + width
-    total = a[S, p] * x[below] + a[N, p] * x[above]
-    if corners:
-        total += (a[SW, p] * x[below - 1] + a[SE, p] * x[below + 1]
-                  + a[NW, p] * x[above - 1] + a[NE, p] * x[above + 1])  # fmt: skip
-    return total
-
-
-@njit(helper=True)
-def _off_column(a: np.ndarray, x: np.ndarray, p: int, width: int, corners: bool) -> float:
-    """``sum a_k x_k`` over the neighbours of ``p`` off its column."""
-    total = a[W, p] * x[p - 1] + a[E, p] * x[p + 1]
-    if corners:
-        below, above = p - width, p + width
-        total += (a[SW, p] * x[below - 1] + a[SE, p] * x[below + 1]
-                  + a[NW, p] * x[above - 1] + a[NE, p] * x[above + 1])  # fmt: skip
-    return total
-
-
-@njit
-def _row_sweep(
-    hierarchy: Hierarchy, lvl: int, x: np.ndarray, b: np.ndarray, line: np.ndarray,
-    backward: bool,
-) -> None:  # fmt: skip
-    """One Gauss-Seidel sweep over level ``lvl``'s rows, each solved exactly."""
-    a, factor = hierarchy.stencil, hierarchy.row_factor
-    rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
-    base, width = hierarchy.offset[lvl], cols + 2
-    corners = lvl > 0
-    for step in range(rows):
-        r = rows - 1 - step if backward else step
-        start = base + (r + 1) * width + 1
-        previous = 0.0
-        for c in range(cols):
-            p = start + c
-            rhs = b[p] - _off_row(a, x, p, width, corners)
-            previous = (rhs - a[W, p] * previous) * factor[1, p]
-            line[c] = previous
-        value = 0.0
-        for c in range(cols - 1, -1, -1):
-            value = line[c] - factor[0, start + c] * value
-            x[start + c] = value
-
-
-@njit
-def _column_sweep(
-    hierarchy: Hierarchy, lvl: int, x: np.ndarray, b: np.ndarray, scratch: np.ndarray,
-    backward: bool,
-) -> None:  # fmt: skip
-    """One zebra sweep over level ``lvl``'s columns, each solved exactly: the even columns,
-    then the odd ones (the other way round when ``backward``). The columns of one colour are
-    eliminated together, row by row, so that memory is read in rows; ``scratch`` (per point)
-    holds the forward elimination."""
-    a, factor = hierarchy.stencil, hierarchy.column_factor
-    rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
-    base, width = hierarchy.offset[lvl], cols + 2
-    corners = lvl > 0
-    for half in range(2):
-        colour = 1 - half if backward else half
-        first = base + width + 1 + colour
-        for r in range(rows):
-            start = first + r * width
-            for p in range(start, start - colour + cols, 2):
-                rhs = b[p] - _off_column(a, x, p, width, corners) - a[S, p] * scratch[p - width]
-                scratch[p] = rhs * factor[1, p]
-        for step in range(rows):
-            start = first + (rows - 1 - step) * width
-            for p in range(start, start - colour + cols, 2):
-                x[p] = scratch[p] - factor[0, p] * x[p + width]
+                     np.zeros((3, int(hierarchy.offset[1]))))  # fmt: skip
 
 
 @njit
 def _restrict_residual(hierarchy: Hierarchy, lvl: int, work: Workspace) -> None:
     """Level ``lvl + 1``'s right-hand side: ``P^T (b - A x)`` of level ``lvl``."""
-    stencil = hierarchy.stencil
-    frm, weight = hierarchy.interpolation_from, hierarchy.interpolation_weight
+    stencil, weight = hierarchy.stencil, hierarchy.interpolation_weight
     rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
     base, width = hierarchy.offset[lvl], cols + 2
     x, b = work.solution, work.rhs
     corners = lvl > 0
     cbase, cend = hierarchy.offset[lvl + 1], hierarchy.offset[lvl + 2]
+    cwidth = hierarchy.shape[lvl + 1, 1] + 2
     for p in range(cbase, cend):
         b[p] = 0.0
     for r in range(rows):
         start = base + (r + 1) * width + 1
-        for p in range(start, start + cols):
+        parents = cbase + (r // 2) * cwidth
+        for c in range(cols):
+            p = start + c
             res = (b[p] - stencil[C, p] * x[p] - stencil[W, p] * x[p - 1]
                    - stencil[E, p] * x[p + 1]
-                   - _off_row(stencil, x, p, width, corners))  # fmt: skip
-            for j in range(4):
-                b[frm[p, j]] += weight[p, j] * res
-    corner = cbase  # unused interpolation slots point here with weight 0: keep it 0
-    b[corner] = 0.0
+                   - off_row(stencil, x, p, width, corners))  # fmt: skip
+            q = parents + c // 2
+            b[q] += weight[0, p] * res
+            b[q + 1] += weight[1, p] * res
+            b[q + cwidth] += weight[2, p] * res
+            b[q + cwidth + 1] += weight[3, p] * res
+    _zero_ring(b, cbase, hierarchy.shape[lvl + 1, 0], hierarchy.shape[lvl + 1, 1])
+
+
+@njit(helper=True)
+def _zero_ring(values: np.ndarray, base: int, rows: int, cols: int) -> None:
+    """Set the boundary ring of a level to 0 (weights 0 only ever add 0 there, but a
+    non-finite residual would not)."""
+    width = cols + 2
+    last = base + (rows + 1) * width
+    for c in range(width):
+        values[base + c] = 0.0
+        values[last + c] = 0.0
+    for r in range(1, rows + 1):
+        values[base + r * width] = 0.0
+        values[base + r * width + cols + 1] = 0.0
 
 
 @njit
 def _interpolate_correction(hierarchy: Hierarchy, lvl: int, x: np.ndarray) -> None:
     """``x += P x_c`` on level ``lvl``."""
-    frm, weight = hierarchy.interpolation_from, hierarchy.interpolation_weight
+    weight = hierarchy.interpolation_weight
     rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
     base, width = hierarchy.offset[lvl], cols + 2
+    cbase, cwidth = hierarchy.offset[lvl + 1], hierarchy.shape[lvl + 1, 1] + 2
     for r in range(rows):
         start = base + (r + 1) * width + 1
-        for p in range(start, start + cols):
-            x[p] += (weight[p, 0] * x[frm[p, 0]] + weight[p, 1] * x[frm[p, 1]]
-                     + weight[p, 2] * x[frm[p, 2]] + weight[p, 3] * x[frm[p, 3]])  # fmt: skip
+        parents = cbase + (r // 2) * cwidth
+        for c in range(cols):
+            p = start + c
+            q = parents + c // 2
+            x[p] += (weight[0, p] * x[q] + weight[1, p] * x[q + 1]
+                     + weight[2, p] * x[q + cwidth] + weight[3, p] * x[q + cwidth + 1])  # fmt: skip
 
 
 @njit
@@ -337,31 +292,18 @@ def v_cycle(hierarchy: Hierarchy, work: Workspace) -> None:
     levels = hierarchy.shape.shape[0]
     for lvl in range(levels - 1):
         x[hierarchy.offset[lvl] : hierarchy.offset[lvl + 1]] = 0.0
-        _row_sweep(hierarchy, lvl, x, b, line, False)
-        _column_sweep(hierarchy, lvl, x, b, work.residual, False)
+        if hierarchy.sweeps & 1:
+            row_sweep(hierarchy, lvl, x, b, line, False)
+        if hierarchy.sweeps & 2:
+            column_sweep(hierarchy, lvl, x, b, work.residual, False)
         _restrict_residual(hierarchy, lvl, work)
     _coarsest_solve(hierarchy, levels - 1, work)
     for lvl in range(levels - 2, -1, -1):
         _interpolate_correction(hierarchy, lvl, x)
-        _column_sweep(hierarchy, lvl, x, b, work.residual, True)
-        _row_sweep(hierarchy, lvl, x, b, line, True)
-
-
-@njit
-def apply_operator(operator: Operator, x: np.ndarray, out: np.ndarray) -> None:
-    """``out = A x`` for a five-point :class:`Operator` (``x`` and ``out`` flat, m*m)."""
-    wc, wr, d = operator.across_columns, operator.across_rows, operator.diagonal
-    m = d.shape[0]
-    for r in range(m):
-        for c in range(m):
-            p = r * m + c
-            xp = x[p]
-            v = d[r, c] * xp
-            v += wc[r, c] * (xp - (x[p - 1] if c > 0 else 0.0))
-            v += wc[r, c + 1] * (xp - (x[p + 1] if c < m - 1 else 0.0))
-            v += wr[r, c] * (xp - (x[p - m] if r > 0 else 0.0))
-            v += wr[r + 1, c] * (xp - (x[p + m] if r < m - 1 else 0.0))
-            out[p] = v
+        if hierarchy.sweeps & 2:
+            column_sweep(hierarchy, lvl, x, b, work.residual, True)
+        if hierarchy.sweeps & 1:
+            row_sweep(hierarchy, lvl, x, b, line, True)
 
 
 @njit
@@ -386,37 +328,44 @@ def refresh_finest(hierarchy: Hierarchy, operator: Operator) -> None:
     earlier one (module docstring)."""
     fine_stencil(operator, hierarchy.stencil)
     line_factors(hierarchy.stencil, hierarchy.shape, hierarchy.offset, 0, hierarchy.row_factor,
-                 hierarchy.column_factor)  # fmt: skip
+                 hierarchy.column_factor, hierarchy.sweeps)  # fmt: skip
 
 
 @njit
-def largest_deformation(m: int, x: np.ndarray) -> float:
-    """Largest change of an edge's length that a displacement increment ``x`` (flat, m*m)
-    makes: ``max |x_p - x_q|`` over neighbours (and ``|x_p|`` next to the boundary)."""
+def _apply_finest(hierarchy: Hierarchy, x: np.ndarray, out: np.ndarray) -> None:
+    """``out = A x`` on the finest level (ring-padded vectors) with its five-point stencil,
+    which :func:`build` and :func:`refresh_finest` keep equal to the current operator."""
+    a = hierarchy.stencil
+    rows, cols = hierarchy.shape[0, 0], hierarchy.shape[0, 1]
+    width = cols + 2
+    for r in range(rows):
+        start = (r + 1) * width + 1
+        for p in range(start, start + cols):
+            out[p] = (a[C, p] * x[p] + a[W, p] * x[p - 1] + a[E, p] * x[p + 1]
+                      + a[S, p] * x[p - width] + a[N, p] * x[p + width])  # fmt: skip
+
+
+@njit
+def _largest_deformation(hierarchy: Hierarchy, x: np.ndarray) -> float:
+    """Largest change of an edge's length that a displacement increment ``x`` (ring-padded,
+    finest level, 0 on the ring) makes: ``max |x_p - x_q|`` over joined neighbours, the
+    fixed ring included."""
+    rows, cols = hierarchy.shape[0, 0], hierarchy.shape[0, 1]
+    width = cols + 2
     largest = 0.0
-    for r in range(m):
-        for c in range(m):
-            p = r * m + c
-            left = x[p - 1] if c > 0 else 0.0
-            below = x[p - m] if r > 0 else 0.0
-            largest = max(largest, abs(x[p] - left), abs(x[p] - below))
-            if c == m - 1 or r == m - 1:
-                largest = max(largest, abs(x[p]))
+    for r in range(rows + 1):
+        start = (r + 1) * width
+        for p in range(start, start + cols + 1):
+            largest = max(largest, abs(x[p] - x[p - 1]), abs(x[p] - x[p - width]))
     return largest
 
 
-@njit
-def _precondition(hierarchy: Hierarchy, work: Workspace, r: np.ndarray, z: np.ndarray) -> None:
-    """``z = M^-1 r`` (one V-cycle), on the finest grid's interior points."""
-    rows, cols = hierarchy.shape[0, 0], hierarchy.shape[0, 1]
-    width = cols + 2
-    for i in range(rows):
-        for j in range(cols):
-            work.rhs[(i + 1) * width + j + 1] = r[i * cols + j]
-    v_cycle(hierarchy, work)
-    for i in range(rows):
-        for j in range(cols):
-            z[i * cols + j] = work.solution[(i + 1) * width + j + 1]
+@njit(helper=True)
+def _dot(x: np.ndarray, y: np.ndarray) -> float:
+    total = 0.0
+    for p in range(x.shape[0]):
+        total += x[p] * y[p]
+    return total
 
 
 @njit
@@ -431,7 +380,8 @@ def solve(
     max_iterations: int,
 ) -> int:
     """Solve ``A x = rhs`` by the preconditioned conjugate gradient method, from the ``x``
-    given (flat, m*m, updated in place).
+    given (flat, m*m, updated in place). ``hierarchy``'s finest level must be ``operator``
+    (:func:`build`, :func:`refresh_finest`).
 
     Stops when the correction one more V-cycle would make deforms no edge by more than
     ``deformation_tolerance`` (the V-cycle's output estimates the remaining error; that last
@@ -444,43 +394,59 @@ def solve(
         Iterations done (V-cycles applied); ``-1`` if it stopped at ``max_iterations``
         without meeting either criterion, ``-2`` if a non-finite value appeared.
     """
-    m = operator.diagonal.shape[0]
-    r, pdir, q, z = work.conjugate[0], work.conjugate[1], work.conjugate[2], work.conjugate[3]
-    apply_operator(operator, x, q)
+    rows, cols = hierarchy.shape[0, 0], hierarchy.shape[0, 1]
+    width, fine = cols + 2, hierarchy.offset[1]
+    # ring-padded vectors of the finest level: the residual lives in the V-cycle's
+    # right-hand side and the preconditioned residual in its solution, so nothing is copied
+    r, z = work.rhs[:fine], work.solution[:fine]
+    xp, pdir, q = work.conjugate[0], work.conjugate[1], work.conjugate[2]
+    xp[:] = 0.0
+    for i in range(rows):
+        for j in range(cols):
+            xp[(i + 1) * width + j + 1] = x[i * cols + j]
+    _apply_finest(hierarchy, xp, q)
+    r[:] = 0.0
     largest = 0.0
-    for p in range(m * m):
-        r[p] = rhs[p] - q[p]
-        largest = max(largest, abs(r[p]))
-    if largest <= force_tolerance:
-        return 0
-    rz = 0.0
-    for it in range(1, max_iterations + 1):
-        _precondition(hierarchy, work, r, z)
-        if largest_deformation(m, z) <= deformation_tolerance:
-            for p in range(m * m):
-                x[p] += z[p]
-            return it
-        rz_new = 0.0
-        for p in range(m * m):
-            rz_new += r[p] * z[p]
-        beta = rz_new / rz if it > 1 else 0.0
-        for p in range(m * m):
-            pdir[p] = z[p] + beta * pdir[p]
-        rz = rz_new
-        apply_operator(operator, pdir, q)
-        pq = 0.0
-        for p in range(m * m):
-            pq += pdir[p] * q[p]
-        if not math.isfinite(pq):
-            return -2
-        if pq <= 0.0:
-            return it
-        alpha = rz / pq
-        largest = 0.0
-        for p in range(m * m):
-            x[p] += alpha * pdir[p]
-            r[p] -= alpha * q[p]
+    for i in range(rows):
+        for j in range(cols):
+            p = (i + 1) * width + j + 1
+            r[p] = rhs[i * cols + j] - q[p]
             largest = max(largest, abs(r[p]))
-        if largest <= force_tolerance:
-            return it
-    return -1
+    status = 0
+    if largest > force_tolerance:
+        status = -1
+        rz = 0.0
+        pdir[:] = 0.0
+        for it in range(1, max_iterations + 1):
+            v_cycle(hierarchy, work)  # z = M^-1 r
+            if _largest_deformation(hierarchy, z) <= deformation_tolerance:
+                for p in range(fine):
+                    xp[p] += z[p]
+                status = it
+                break
+            rz_new = _dot(r, z)
+            beta = rz_new / rz if it > 1 else 0.0
+            for p in range(fine):
+                pdir[p] = z[p] + beta * pdir[p]
+            rz = rz_new
+            _apply_finest(hierarchy, pdir, q)
+            pq = _dot(pdir, q)
+            if not math.isfinite(pq):
+                status = -2
+                break
+            if pq <= 0.0:
+                status = it
+                break
+            alpha = rz / pq
+            largest = 0.0
+            for p in range(fine):
+                xp[p] += alpha * pdir[p]
+                r[p] -= alpha * q[p]
+                largest = max(largest, abs(r[p]))
+            if largest <= force_tolerance:
+                status = it
+                break
+    for i in range(rows):
+        for j in range(cols):
+            x[i * cols + j] = xp[(i + 1) * width + j + 1]
+    return status

@@ -1,5 +1,5 @@
 """The levels of the frictional solid's multigrid: the finest level's stencil, Dendy's
-operator-dependent interpolation, the Galerkin coarse operators and the line factors
+operator-dependent interpolation and the Galerkin coarse operators
 (:mod:`porenet.kernels.mechanics.multigrid`, which builds a hierarchy from them and runs it).
 
 Each level's grid is stored with a ring of boundary points (always 0) and its stencil one
@@ -129,6 +129,30 @@ def interpolation(
 
 
 @njit
+def compact_interpolation(
+    shape: np.ndarray, offset: np.ndarray, lvl: int, frm: np.ndarray, weight: np.ndarray,
+    out: np.ndarray,
+) -> None:  # fmt: skip
+    """Level ``lvl``'s interpolation (parents ``frm``, ``weight``, as :func:`interpolation`
+    writes them) in the compact layout of the V-cycle: ``out[2 a + b, p]`` is the weight of
+    the parent at ring-padded ``(r // 2 + a, c // 2 + b)`` of the point ``p = (r, c)``."""
+    rows, cols = shape[lvl, 0], shape[lvl, 1]
+    base, cbase = offset[lvl], offset[lvl + 1]
+    width, cwidth = cols + 2, shape[lvl + 1, 1] + 2
+    for r in range(rows):
+        for c in range(cols):
+            p = base + (r + 1) * width + c + 1
+            for k in range(4):
+                out[k, p] = 0.0
+            for j in range(4):
+                if weight[p, j] == 0.0:
+                    continue
+                a = (frm[p, j] - cbase) // cwidth - r // 2
+                b = (frm[p, j] - cbase) % cwidth - c // 2
+                out[2 * a + b, p] = weight[p, j]
+
+
+@njit
 def galerkin(
     stencil: np.ndarray, shape: np.ndarray, offset: np.ndarray, lvl: int, frm: np.ndarray,
     weight: np.ndarray,
@@ -159,33 +183,3 @@ def galerkin(
                         dy = (d + cwidth + 1) // cwidth - 1  # d = dy * cwidth + dx, |dx| <= 1
                         dx = d - dy * cwidth
                         stencil[3 * (dy + 1) + (dx + 1), big_i] += wi * wj
-
-
-@njit
-def line_factors(
-    stencil: np.ndarray, shape: np.ndarray, offset: np.ndarray, lvl: int,
-    row_factor: np.ndarray, column_factor: np.ndarray,
-) -> None:  # fmt: skip
-    """The Thomas algorithm's factors of every row's and column's tridiagonal part."""
-    rows, cols = shape[lvl, 0], shape[lvl, 1]
-    base, width = offset[lvl], cols + 2
-    for r in range(rows):
-        previous = 0.0  # eliminated upper coefficient of the previous point
-        for c in range(cols):
-            p = base + (r + 1) * width + c + 1
-            lower = stencil[W, p] if c > 0 else 0.0
-            upper = stencil[E, p] if c < cols - 1 else 0.0
-            inverse = 1.0 / (stencil[C, p] - lower * previous)
-            previous = upper * inverse
-            row_factor[0, p] = previous
-            row_factor[1, p] = inverse
-    for c in range(cols):
-        previous = 0.0
-        for r in range(rows):
-            p = base + (r + 1) * width + c + 1
-            lower = stencil[S, p] if r > 0 else 0.0
-            upper = stencil[N, p] if r < rows - 1 else 0.0
-            inverse = 1.0 / (stencil[C, p] - lower * previous)
-            previous = upper * inverse
-            column_factor[0, p] = previous
-            column_factor[1, p] = inverse

@@ -456,6 +456,18 @@ def apply_spring(
     sees becomes it bounded to ``[floor, cap]`` (``at_floor`` / ``at_cap`` mark the bounds
     reached), then the compression grows by ``dh`` and the force becomes ``force_new``.
     Returns ``|change|`` of the seen aperture."""
+    return apply_spring_lagged(s, dh, force_new, springs, aperture, 0.0)
+
+
+@njit(helper=True)
+def apply_spring_lagged(
+    s: int, dh: float, force_new: float, springs: SpringState, aperture: ApertureMap, lag: float
+) -> float:
+    """:func:`apply_spring`, except that the aperture the fluid sees keeps its value while the
+    bounded geometric aperture differs from it by at most ``lag`` (a; returns 0 then): a
+    global solve moves every contact a little, and the fluid need not refresh a throat for a
+    change far below the coupling's tolerance. The geometric aperture always follows, so the
+    lag never accumulates beyond ``lag``."""
     h, force = springs.compression, springs.force
     geometric, apertures = aperture.geometric, aperture.apertures
     one_minus = 1.0 - 0.5 * h[s]
@@ -468,9 +480,11 @@ def apply_spring(
         r = aperture.cap
         aperture.at_cap[s] = True
     change = abs(r - apertures[s])
-    apertures[s] = r
     h[s] += dh
     force[s] = force_new
+    if lag > 0.0 and change <= lag:
+        return 0.0
+    apertures[s] = r
     return change
 
 

@@ -77,7 +77,7 @@ class FrictionalNetwork:
         changed = np.zeros(len(self.springs), np.int64)
         *_, finite = fr.apply_increments(self.state, self.shear, self.law, work, du, dtheta,
                                          self.displacement, self.rotation, self.apertures,
-                                         changed)  # fmt: skip
+                                         changed, 0.0)  # fmt: skip
         assert finite
         return iteration
 
