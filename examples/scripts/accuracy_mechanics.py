@@ -5,10 +5,13 @@ after every fluid step, versus wall time, for each coupling schedule and solver.
     python examples/scripts/accuracy_mechanics.py --n 60 --quick
     python examples/scripts/accuracy_mechanics.py --n 100 --seeds 4 --no-sparse \\
         --out docs/figures/accuracy-mechanics-n100.png --table docs/accuracy-mechanics-n100.md
+    python examples/scripts/accuracy_mechanics.py --solid hertz-mindlin --n 100 --seeds 2 \\
+        --out docs/figures/accuracy-mindlin-n100.png --table docs/accuracy-mindlin-n100.md
 
 Scenes: n x n, centre injection, lambda = 0.1, the viscous model at Ca* = Ca (L/a) /
 [lambda/(1-lambda^2)] = 10 as in the paper's Fig. 5, a Hertzian solid at fracturing number
-N_f, seeds 1..K (``--seeds``), to breakthrough. Near N_f = 1 a single pattern is chaotic (a
+N_f (``--solid hertz``, or ``hertz-mindlin`` with K_t / K_n = ``--shear-ratio``, rotations held,
+no sliding), seeds 1..K (``--seeds``), to breakthrough. Near N_f = 1 a single pattern is chaotic (a
 one-pore difference early on can decide which fracture wins), so errors are means over
 seeds. The reference updates the solid after every fluid time step, passing on every
 pressure change (``coupling = "every-step"``); each other run changes one knob:
@@ -17,7 +20,10 @@ pressure change (``coupling = "every-step"``); each other run changes one knob:
   pressure changes smaller than ``tolerance K_0 / A_p`` may go unseen (docs/model.md);
 * ``coupling = "interval"`` with ``coupling_interval`` (fluid steps) swept;
 * ``solver = "sparse-direct"`` instead of the chains (same equations, general lattices; it
-  solves everything at every update, so it ignores the adaptive tolerance's second half).
+  solves everything at every update, so it ignores the adaptive tolerance's second half);
+* hertz-mindlin only: ``solver_tolerance`` (the multigrid-preconditioned conjugate gradient's
+  relative residual) swept, and ``solver = "sparse-direct"`` instead of the multigrid. Its
+  reference also solves to ``solver_tolerance = 1e-9``.
 
 Errors against the reference:
 
@@ -50,14 +56,29 @@ KNOBS = {
     "solver": (["chains", "sparse-direct"], {"coupling": "adaptive"}),
 }
 
+#: The knobs of the hertz-mindlin solid, and the fields of its reference run.
+MINDLIN_KNOBS = {
+    "coupling_tolerance": KNOBS["coupling_tolerance"],
+    "coupling_interval": KNOBS["coupling_interval"],
+    "solver_tolerance": ([1e-1, 1e-2, 1e-3, 1e-4, 1e-6], {"coupling": "adaptive"}),
+    "solver": (["multigrid", "sparse-direct"], {"coupling": "adaptive"}),
+}
+MINDLIN_REFERENCE = {"coupling": "every-step", "solver_tolerance": 1e-9}
+
 
 def scene(n: int, ca_star: float, nf: float, seed: int = 1, **solid: object) -> dict:
+    solid = {"kind": "hertz", **solid}
     return {
         "seed": seed,
         "lattice": {"n": n, "disorder": LAMBDA, "pore_size": 1e-7},
         "fluid": {"kind": "viscous", "capillary_number": capillary_number_at(ca_star, n, LAMBDA)},
-        "solid": {"kind": "hertz", "fracturing_number": nf, **solid},
+        "solid": {"fracturing_number": nf, **solid},
     }
+
+
+def describe(fields: dict) -> str:
+    """``key = value`` pairs of some solid fields, for a table's caption."""
+    return ", ".join(f"{k} = {v}" for k, v in fields.items())
 
 
 def run(sc: dict) -> tuple[float, object]:
@@ -88,15 +109,24 @@ def main() -> None:
         "--seeds", type=int, default=1, help="seeds 1..K; errors and times are means over them"
     )
     parser.add_argument("--no-sparse", action="store_true", help="skip the sparse solver")
+    parser.add_argument("--solid", choices=["hertz", "hertz-mindlin"], default="hertz")
+    parser.add_argument("--shear-ratio", type=float, default=0.5, help="K_t / K_n (mindlin)")
     parser.add_argument("--out", type=Path, help="figure (PNG)")
     parser.add_argument("--table", type=Path, help="markdown table")
     args = parser.parse_args()
 
-    run(scene(10, args.ca_star, args.nf))  # warm-up: load the numba cache
+    if args.shear_ratio <= 0:
+        parser.error("--shear-ratio must be > 0")
+    knobs, reference = KNOBS, {"coupling": "every-step"}
+    solid = {"kind": args.solid}
+    if args.solid == "hertz-mindlin":
+        knobs, reference = MINDLIN_KNOBS, MINDLIN_REFERENCE
+        solid["shear_stiffness_ratio"] = args.shear_ratio
+    run(scene(10, args.ca_star, args.nf, **solid))  # warm-up: load the numba cache
     seeds = list(range(1, args.seeds + 1))
     refs, wall_ref, updates_ref = [], 0.0, 0
     for seed in seeds:
-        wall, ref = run(scene(args.n, args.ca_star, args.nf, seed, coupling="every-step"))
+        wall, ref = run(scene(args.n, args.ca_star, args.nf, seed, **solid, **reference))
         refs.append(ref)
         wall_ref += wall / len(seeds)
         updates_ref += ref.summary["mechanical_updates"] // len(seeds)
@@ -107,7 +137,7 @@ def main() -> None:
             f"{summary['n_drained']} drained, {summary['springs_removed']} springs removed"
         )
     rows = []
-    for knob, (values, extra) in KNOBS.items():
+    for knob, (values, extra) in knobs.items():
         if args.quick and knob != "solver":
             values = [values[0], values[-1]]
         for value in values:
@@ -115,7 +145,7 @@ def main() -> None:
                 continue
             walls, updates, errs = [], [], []
             for seed, ref in zip(seeds, refs, strict=True):
-                sc = scene(args.n, args.ca_star, args.nf, seed, **extra, **{knob: value})
+                sc = scene(args.n, args.ca_star, args.nf, seed, **solid, **extra, **{knob: value})
                 wall, res = run(sc)
                 walls.append(wall)
                 updates.append(res.summary["mechanical_updates"])
@@ -138,11 +168,11 @@ def main() -> None:
             )
     if args.table:
         lines = [
-            f"Scene: n = {args.n}, lambda = {LAMBDA}, Ca* = {args.ca_star:g} "
+            f"Scene: n = {args.n}, lambda = {LAMBDA}, {describe(solid)}, Ca* = {args.ca_star:g} "
             f"(Ca = {capillary_number_at(args.ca_star, args.n, LAMBDA):.3g}), N_f = {args.nf:g}, "
             f"seeds "
             f"1-{args.seeds}, to breakthrough; errors and times are means over the seeds. "
-            f"Reference: coupling = every-step, {wall_ref:.2f} s, {updates_ref} updates.",
+            f"Reference: {describe(reference)}, {wall_ref:.2f} s, {updates_ref} updates.",
             "",
             "| knob | value | wall (s) | updates | pattern error | breakthrough-time error "
             "| deformation error |",
@@ -159,11 +189,12 @@ def main() -> None:
         from porenet.viz.accuracy import error_vs_wall
         from porenet.viz.pattern import save_figure
 
-        groups = [(knob, [r for r in rows if r["knob"] == knob], "-") for knob in KNOBS]
+        groups = [(knob, [r for r in rows if r["knob"] == knob], "-") for knob in knobs]
         fig = error_vs_wall(
             groups,
             ("pattern", "breakthrough_time", "deformation"),
-            f"coupling, n = {args.n}, Ca* = {args.ca_star:g}, N_f = {args.nf:g}, {args.seeds} "
+            f"{args.solid}: coupling, n = {args.n}, Ca* = {args.ca_star:g}, N_f = {args.nf:g}, "
+            f"{args.seeds} "
             f"seed(s): mean error vs mean wall time (0 drawn at a third of the smallest error)",
             reference_wall=wall_ref,
             reference_label="reference (every step)",

@@ -29,19 +29,21 @@ pores):
   drain too (up to ~``0.3 n^0.12`` of the lattice from Ca = 1e2). Implicit integrator: 13
   steps per drained pore.
   ``integrator = "auto"`` is resolved by the model's own rule.
-* **Mechanical updates** (solid kind ``hertz``): one per fluid step (``every-step``), one
-  per ``coupling_interval`` steps, or, adaptive, a fraction ~0.3 of the steps for
-  ``N_f >= 0.1`` falling to 0 at ``N_f = 0.01`` (a stiff solid is never updated). With
+* **Mechanical updates** (solid kinds ``hertz`` and ``hertz-mindlin``): one per fluid step
+  (``every-step``), one per ``coupling_interval`` steps, or, adaptive, a fraction ~0.3 of
+  the steps for ``N_f >= 0.1`` falling to 0 at ``N_f = 0.01`` (a stiff solid is never updated). With
   invasion percolation, one per drained pore (adaptive: falling to none the same way).
   Above ``N_f = 10`` (viscous) the estimate notes that it is outside its calibration.
 * **Memory**: bytes per pore (lattice, state, records and the run data 240; the viscous
-  model +250; its implicit integrator +2000; the Hertzian solid +600), peak resident memory.
+  model +250; its implicit integrator +2000; the Hertzian solid +600, the frictional one
+  +1200), peak resident memory.
 * **Wall time** (build and run, seconds): invasion percolation ``3e-3 + 2.3e-7 N`` (times
   ``(N / 640 000)^0.3`` above 640 000 pores); explicit
   ``steps (1.5e-7 n + 1.8e-9 N) + drained 2.9e-6 n``; implicit ``drained 0.039
   (N / 2500)^1.41``; a deformable medium adds ``steps (3e-5 + 1.8e-9 N)`` (one step per
   call and the coupler's check) and ``updates (2.3e-9 + 7e-9 w) N^1.15`` (``w`` = 1 when
-  fracturing); RKC with local time steps on large lattices ~1/3 of its time without
+  fracturing), ``updates 4.7e-7 N`` for ``hertz-mindlin`` (sliding not modelled: a
+  note says so); RKC with local time steps on large lattices ~1/3 of its time without
   (:data:`LOCAL_STEPS_FACTOR`). Python start-up, imports and the first-run numba
   compilation (7-55 s, once per machine: docs/performance.md, "First run") are not
   included.
@@ -158,6 +160,15 @@ COUPLED_STEP_SECONDS = (30e-6, 1.8e-9)
 #: One mechanical update of the Hertzian solid: ``(c + c_fracture w) N^p`` s, with ``w`` the
 #: fracture weight (contacts opening make an update ~4x dearer).
 UPDATE_SECONDS = (2.3e-9, 7e-9, 1.15)
+#: One mechanical update of the frictional solid (kind ``hertz-mindlin``, rotations held, no
+#: sliding), per pore: the multigrid solve is linear in N (n = 400 Fig. 5 at N_f = 10: 74.6 ms
+#: an update, ``tests/benchmarks/bench_frictional.py run``, docs/cost.md).
+MINDLIN_UPDATE_SECONDS = 4.7e-7
+#: Extra peak memory of the frictional solid per pore (two multigrid hierarchies).
+MEMORY_MINDLIN = 600.0
+#: Solid kinds whose fracturing and coupling the model follows (the same coupler and
+#: fracture mechanics; their updates cost differently).
+_HERTZ_KINDS = ("hertz", "hertz-mindlin")
 
 _KNOWN_FLUIDS = ("invasion-percolation", "viscous")
 
@@ -427,9 +438,15 @@ def estimate_cost(scene: Any) -> CostEstimate:
         disorder = 0.3
         notes.append("apertures from a file: disorder taken as 0.3")
     rigid = bool(getattr(type(solid), "builds_nothing", False))
-    hertz = solid.kind == "hertz"
+    hertz = solid.kind in _HERTZ_KINDS
+    mindlin = solid.kind == "hertz-mindlin"
     if not rigid and not hertz:
         notes.append(f"solid {solid.kind!r}: no cost model for its updates")
+    if mindlin and getattr(solid, "friction", None) is not None:
+        notes.append(
+            "solid.friction: sliding contacts are iterated and change the operator; measured "
+            "~5x the wall time of the same run without sliding at n = 100 (docs/cost.md)"
+        )
     nf = None if rigid else solid_fracturing_number(scene)
     at = scene.injection.at
 
@@ -536,7 +553,7 @@ def estimate_cost(scene: Any) -> CostEstimate:
         elif steps is None:
             updates = None
         else:
-            memory += MEMORY_HERTZ * pores
+            memory += (MEMORY_HERTZ + (MEMORY_MINDLIN if mindlin else 0.0)) * pores
             schedule = getattr(solid, "coupling", "every-step")
             tol = float(getattr(solid, "coupling_tolerance", ADAPTIVE_TOLERANCE))
             if schedule == "every-step":
@@ -551,7 +568,10 @@ def estimate_cost(scene: Any) -> CostEstimate:
             if wall is not None:
                 wall += steps * (COUPLED_STEP_SECONDS[0] + COUPLED_STEP_SECONDS[1] * pores)
                 c, c_fracture, p = UPDATE_SECONDS
-                wall += updates * (c + c_fracture * w) * pores**p
+                if mindlin:
+                    wall += updates * MINDLIN_UPDATE_SECONDS * pores
+                else:
+                    wall += updates * (c + c_fracture * w) * pores**p
 
     def _int(value: float | None) -> int | None:
         return None if value is None else round(value)

@@ -57,3 +57,41 @@ def test_accuracy_seeds_script_runs_on_a_small_lattice(tmp_path):
     rows = [line for line in table.read_text().splitlines() if line.startswith("| ")]
     assert len(rows) == 1 + 5  # the header and every setting
     assert "| explicit, tight (reference) | 1.000 | 1.000 | 0.00e+00 |" in table.read_text()
+
+
+def _script(name: str, *args: str) -> str:
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / name
+    out = subprocess.run(
+        [sys.executable, str(script), *args], capture_output=True, text=True, timeout=300
+    )
+    assert out.returncode == 0, out.stderr
+    return out.stdout
+
+
+def test_fracture_shear_script_runs_and_resumes(tmp_path):
+    records, table = tmp_path / "runs.jsonl", tmp_path / "shear.md"
+    args = ["--n", "16", "--ratio", "0.5", "--friction", "none", "--nf", "10", "--seeds", "1",
+            "--records", str(records), "--table", str(table)]  # fmt: skip
+    first = _script("fracture_shear.py", *args)
+    assert "K_t/K_n 0.5" in first and len(records.read_text().splitlines()) == 1
+    again = _script("fracture_shear.py", *args)  # every run recorded: none runs again
+    assert len(records.read_text().splitlines()) == 1
+    assert again.splitlines()[0] == first.splitlines()[0]
+    assert table.read_text().count("\n| 0.5 | no sliding | 10 |") == 1
+
+
+def test_crack_tip_opening_finds_the_straight_ahead_opening_of_an_elastic_medium():
+    # docs/paper.md, "Frictional contacts": the chain opens only the throat ahead of the tip,
+    # a shear-stiff medium opens the crack's line further ahead, more on a larger lattice
+    rows = {}
+    for line in _script("crack_tip_opening.py", "--n", "17", "25", "--length", "3").splitlines():
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        if len(cells) == 6 and cells[1].isdigit():
+            rows[(cells[0], int(cells[1]))] = int(cells[5])
+    assert rows[("hertz (the paper's model)", 17)] == rows[("hertz (the paper's model)", 25)] == 1
+    for ratio in ("0.1", "0.8"):
+        label = f"hertz-mindlin, K_t/K_n = {ratio}"
+        assert 1 < rows[(label, 17)] < rows[(label, 25)]

@@ -1,0 +1,232 @@
+"""Does a shear-stiff contact make the fractures branch? Fig. 5's scene with hertz-mindlin.
+
+    python examples/scripts/fracture_shear.py --records /tmp/shear-100.jsonl \
+        --table docs/fracture-shear.md --out docs/figures/fracture-shear.png \
+        --patterns docs/figures/fracture-shear-patterns.png          # n = 100, ~40 min
+    python examples/scripts/fracture_shear.py --n 400 --nf 10 --ratio 0.1 0.8 --friction none \
+        --seeds 1 --records /tmp/shear-400.jsonl --table /tmp/shear-400.md  # ~25 min a run
+
+Runs Fig. 5's scene (``examples/scenes/fig5.toml``: lambda = 0.1, Ca* = 10, viscous
+drainage, eps_0 = 0.05) at n pores per side with the solid kind ``hertz-mindlin``
+(docs/model.md, "Frictional solid (kind hertz-mindlin)") for each tangential stiffness ratio
+K_t / K_n, without sliding ("none") or with a Coulomb friction coefficient, and each fracturing
+number, over seeds, to breakthrough. Per point it reports the mean and standard deviation over
+seeds of the mass-radius fractal dimension (as examples/scripts/fig5.py), the drained pores,
+the springs removed, the longest straight drained run and the mean length of the thin
+straight segments (channels one pore wide, at least 5 pores long: the fractures' straight
+segments). ``--patterns`` draws, for seed 1 at ``--pattern-nf``, the literal model
+(``hertz``), the weak foundation (``hertz``, k_f = 0.02 K_0, docs/paper.md) and every
+hertz-mindlin setting side by side.
+
+Every run is appended to ``--records`` (JSON lines) as it ends, and runs already there are
+not repeated: an interrupted study resumes where it stopped.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from fig5 import LAMBDA, run, shape
+
+from porenet.analysis.features import LONG_RUN, straight_runs
+from porenet.threads import configure_threads
+
+KEYS = ("d_f", "drained", "removed", "straight", "segment")
+#: What identifies a run in the records.
+POINT = ("n", "ratio", "friction", "rotation", "nf", "seed")
+
+
+def solid_of(ratio: float | None, friction: float | None, rotation: str = "held") -> dict:
+    """The ``[solid]`` fields of one setting (``ratio`` None: the literal ``hertz``)."""
+    if ratio is None:
+        return {}
+    fields = {"kind": "hertz-mindlin", "shear_stiffness_ratio": ratio, "rotation": rotation}
+    if friction is not None:
+        fields["friction"] = friction
+    return fields
+
+
+def measure(n: int, setting: dict, nf: float, seed: int, keep: bool = False) -> dict:
+    """One run of Fig. 5's scene with the solid fields ``setting``: its shape and cost
+    (the run's data under ``"data"`` if ``keep``)."""
+    wall, res = run(n, nf, None, foundation=setting.pop("foundation", None), seed=seed,
+                    solid=setting)  # fmt: skip
+    d_f, straight = shape(res.data, n)
+    runs = straight_runs(res.data.as_grid(res.data.drained), thin=True)
+    long = runs[runs >= LONG_RUN]
+    record = {
+        "d_f": d_f,
+        "drained": res.summary["n_drained"],
+        "removed": res.summary.get("springs_removed", 0),
+        "straight": straight,
+        "segment": float(long.mean()) if long.size else 0.0,
+        "updates": res.summary.get("mechanical_updates", 0),
+        "sliding": res.summary.get("largest_sliding_contacts", 0),
+        "wall": wall,
+    }
+    if keep:
+        record["data"] = res.data
+    return record
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=100)
+    parser.add_argument("--ratio", type=float, nargs="+", default=[0.1, 0.3, 0.8],
+                        help="K_t / K_n values")  # fmt: skip
+    parser.add_argument("--friction", nargs="+", default=["none", "0.3"],
+                        help="Coulomb coefficients; 'none': no sliding")  # fmt: skip
+    parser.add_argument("--rotation", choices=["held", "free"], default="held",
+                        help="particle rotations (solid.rotation)")  # fmt: skip
+    parser.add_argument("--nf", type=float, nargs="+", default=[0.1, 0.3, 1.0, 3.0, 10.0, 30.0])
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
+    parser.add_argument("--threads", type=int, default=1, help="threads per run (default 1)")
+    parser.add_argument("--records", type=Path, help="JSON lines, one per run (resumable)")
+    parser.add_argument("--table", type=Path, help="markdown table")
+    parser.add_argument("--out", type=Path, help="figure: D_f against N_f (PNG)")
+    parser.add_argument("--patterns", type=Path, help="figure: patterns, seed 1 (PNG)")
+    parser.add_argument("--pattern-nf", type=float, default=10.0)
+    args = parser.parse_args()
+    try:
+        frictions = [None if f == "none" else float(f) for f in args.friction]
+    except ValueError:
+        parser.error(f"--friction takes numbers or 'none', got {args.friction}")
+    if any(r <= 0 for r in args.ratio) or any(v <= 0 for v in args.nf) or args.n < 8:
+        parser.error("--ratio and --nf must be > 0 and --n >= 8")
+    if any(f is not None and f < 0 for f in frictions):
+        parser.error("--friction must be >= 0 or 'none'")
+    configure_threads(args.threads)
+    done = {}
+    if args.records and args.records.exists():
+        for line in args.records.read_text().splitlines():
+            rec = {"rotation": "held", **json.loads(line)}
+            done[tuple(rec[k] for k in POINT)] = rec
+    rows = []
+    for ratio in args.ratio:
+        for friction in frictions:
+            for nf in args.nf:
+                runs = []
+                for seed in args.seeds:
+                    key = (args.n, ratio, friction, args.rotation, nf, seed)
+                    if key not in done:
+                        rec = measure(args.n, solid_of(ratio, friction, args.rotation), nf, seed)
+                        done[key] = dict(zip(POINT, key, strict=True), **rec)
+                        if args.records:
+                            with args.records.open("a") as f:
+                                f.write(json.dumps(done[key]) + "\n")
+                    runs.append(done[key])
+                rows.append(aggregate(runs, ratio=ratio, friction=friction, nf=nf))
+                print(line_of(rows[-1]), flush=True)
+    if args.table:
+        write_table(rows, args)
+    if args.out:
+        draw(rows, args.n, args.out)
+        print(f"figure: {args.out}")
+    if args.patterns:
+        draw_patterns(args, frictions)
+        print(f"figure: {args.patterns}")
+
+
+def aggregate(runs: list[dict], **point: float | None) -> dict:
+    """Mean and standard deviation over seeds of :data:`KEYS`, and the mean wall time."""
+    row = dict(point)
+    for key in KEYS:
+        values = [r[key] for r in runs]
+        row[key] = statistics.fmean(values)
+        row[key + "_sd"] = statistics.pstdev(values) if len(values) > 1 else 0.0
+    row["wall"] = statistics.fmean(r["wall"] for r in runs)
+    row["sliding"] = max(r["sliding"] for r in runs)
+    return row
+
+
+def friction_label(friction: float | None) -> str:
+    return "no sliding" if friction is None else f"mu = {friction:g}"
+
+
+def line_of(r: dict) -> str:
+    return (f"K_t/K_n {r['ratio']:<4g} {friction_label(r['friction']):<10} N_f {r['nf']:<5g} "
+            f"D_f {r['d_f']:.3f} +- {r['d_f_sd']:.3f}  drained {r['drained']:7.0f}  removed "
+            f"{r['removed']:6.0f}  straight {r['straight']:5.0f}  segment {r['segment']:5.1f}  "
+            f"{r['wall']:6.1f} s/run")  # fmt: skip
+
+
+def write_table(rows: list[dict], args: argparse.Namespace) -> None:
+    seeds = ", ".join(str(s) for s in args.seeds)
+    lines = [
+        f"n = {args.n}, lambda = {LAMBDA}, Ca* = 10, solid kind hertz-mindlin (rotations "
+        f"{args.rotation}), "
+        f"seeds {seeds}, to breakthrough; mean +- standard deviation over the seeds "
+        "(`python examples/scripts/fracture_shear.py`).",
+        "",
+        "| K_t/K_n | sliding | N_f | D_f (mass-radius) | drained pores | springs removed | "
+        "longest straight run | mean straight segment | most sliding contacts | wall (s/run) |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    lines += [
+        f"| {r['ratio']:g} | {friction_label(r['friction'])} | {r['nf']:g} | {r['d_f']:.3f} +- "
+        f"{r['d_f_sd']:.3f} | {r['drained']:.0f} | {r['removed']:.0f} | {r['straight']:.0f} | "
+        f"{r['segment']:.1f} | {r['sliding']} | {r['wall']:.1f} |"
+        for r in rows
+    ]
+    args.table.write_text("\n".join(lines) + "\n")
+    print(f"table: {args.table}")
+
+
+def draw(rows: list[dict], n: int, out: Path) -> None:
+    """D_f against N_f, one curve per stiffness ratio, one panel per sliding setting."""
+    from matplotlib.figure import Figure
+
+    from porenet.viz.pattern import save_figure
+
+    frictions = list(dict.fromkeys(r["friction"] for r in rows))
+    fig = Figure(figsize=(4.5 * len(frictions), 3.6), dpi=130, layout="constrained")
+    axes = fig.subplots(1, len(frictions), sharey=True, squeeze=False)[0]
+    for ax, friction in zip(axes, frictions, strict=True):
+        for i, ratio in enumerate(dict.fromkeys(r["ratio"] for r in rows)):
+            mine = [r for r in rows if r["ratio"] == ratio and r["friction"] == friction]
+            ax.errorbar([r["nf"] for r in mine], [r["d_f"] for r in mine],
+                        yerr=[r["d_f_sd"] for r in mine], marker="o", ms=4, capsize=2,
+                        color=f"C{i}", label=f"K_t/K_n = {ratio:g}")  # fmt: skip
+        for value, name in ((1.43, "FR (paper)"), (1.64, "VF (paper)")):
+            ax.axhline(value, color="k", lw=0.6, ls=":")
+            ax.annotate(name, (0.02, value), xycoords=("axes fraction", "data"), fontsize=7,
+                        xytext=(0, 2), textcoords="offset points")  # fmt: skip
+        ax.set_xscale("log")
+        ax.set_xlabel("fracturing number N_f")
+        ax.set_title(friction_label(friction), fontsize=9)
+    axes[0].set_ylabel("D_f (mass-radius)")
+    axes[0].legend(fontsize=7, loc="lower left")
+    fig.suptitle(f"Fig. 5's scene at n = {n} with hertz-mindlin contacts", fontsize=10)
+    save_figure(fig, out)
+
+
+def draw_patterns(args: argparse.Namespace, frictions: list[float | None]) -> None:
+    """Seed 1 at ``--pattern-nf``: literal model, weak foundation, every shear setting."""
+    from matplotlib.figure import Figure
+
+    from porenet.viz.pattern import plot_pattern, save_figure
+
+    settings = [("hertz (the paper's model)", {}), ("hertz, k_f = 0.02 K_0", {"foundation": 0.02})]
+    settings += [(f"K_t/K_n = {r:g}, {friction_label(f)}", solid_of(r, f, args.rotation))
+                 for r in args.ratio for f in frictions]  # fmt: skip
+    cols = min(4, len(settings))
+    n_rows = -(-len(settings) // cols)
+    fig = Figure(figsize=(3.4 * cols, 3.3 * n_rows), dpi=110, layout="constrained")
+    axes = fig.subplots(n_rows, cols, squeeze=False).ravel()
+    for ax, (label, setting) in zip(axes, settings, strict=False):
+        rec = measure(args.n, dict(setting), args.pattern_nf, 1, keep=True)
+        plot_pattern(rec["data"], ax=ax, title=f"{label}\nD_f = {rec['d_f']:.2f}")
+    for ax in axes[len(settings) :]:
+        ax.set_axis_off()
+    fig.suptitle(f"n = {args.n}, N_f = {args.pattern_nf:g}, Ca* = 10, seed 1", fontsize=10)
+    save_figure(fig, args.patterns)
+
+
+if __name__ == "__main__":
+    main()
