@@ -161,9 +161,9 @@ COUPLED_STEP_SECONDS = (30e-6, 1.8e-9)
 #: fracture weight (contacts opening make an update ~4x dearer).
 UPDATE_SECONDS = (2.3e-9, 7e-9, 1.15)
 #: One mechanical update of the frictional solid (kind ``hertz-mindlin``, rotations held, no
-#: sliding), per pore: the multigrid solve is linear in N (n = 400 Fig. 5 at N_f = 10: 74.6 ms
-#: an update, ``tests/benchmarks/bench_frictional.py run``, docs/cost.md).
-MINDLIN_UPDATE_SECONDS = 4.7e-7
+#: sliding), per pore: the multigrid solve is linear in N (n = 400 Fig. 5 at N_f = 10: 29.7 ms
+#: an update, ``tests/benchmarks/bench_frictional.py run``, 2026-12-06, docs/cost.md).
+MINDLIN_UPDATE_SECONDS = 1.9e-7
 #: Extra peak memory of the frictional solid per pore (two multigrid hierarchies).
 MEMORY_MINDLIN = 600.0
 #: Solid kinds whose fracturing and coupling the model follows (the same coupler and

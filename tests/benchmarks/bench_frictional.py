@@ -4,6 +4,9 @@
     python tests/benchmarks/bench_frictional.py run                # Fig. 5 at N_f = 10
     python tests/benchmarks/bench_frictional.py run --n 200 --set solid.friction=0.3
     python tests/benchmarks/bench_frictional.py run --threads 1 2 --loads 0 1
+    python tests/benchmarks/bench_frictional.py tolerance --values 1e-3 1e-2 --max-drained 150
+    python tests/benchmarks/bench_frictional.py profile --max-drained 60
+    python tests/benchmarks/bench_frictional.py sweep-cost    # Fig. 3 at n = 400 with it
 
 ``updates``: builds the 400 x 400 lattice (lambda = 0.1, N_f = 1, K_t / K_n = 0.5) and times
 ``HertzMindlinSolid.update`` from the prestressed state, as ``bench_mechanics.py`` does for
@@ -17,6 +20,20 @@ solid) to breakthrough, each run a new process (warm kernel cache), optionally a
 thread counts and beside busy processes (``python -c "while True: pass"``, started and stopped
 here). Prints the wall time, the mechanical updates and the time the solid spent in them
 (``mechanics_time_s``), so the amortised cost of an update.
+
+``tolerance``: the same scene capped at ``--max-drained`` pores, once per solver tolerance,
+all at the same time, each on one thread (two values fill the two cores: side by side, under
+the same conditions). Prints each run's cost and how far it is from the first value's run:
+the drained order, the open contacts, the largest differences of displacement and aperture
+(in a) at the end (docs/accuracy.md, "Frictional solid").
+
+``profile``: the scene capped at ``--max-drained`` pores in this process on one thread under
+cProfile: each kernel's share of the time spent in the solid's updates (``tottime`` over
+``mechanics_time_s``; docs/performance.md, "Frictional solid").
+
+``sweep-cost``: the cost model's estimate (``porenet.core.cost.estimate_cost``) summed over
+the points of ``examples/sweeps/fig3.toml`` with this scene as their base (docs/reproduction.md,
+"Fig. 3 with frictional contacts").
 """
 
 from __future__ import annotations
@@ -128,6 +145,101 @@ def runs(args: argparse.Namespace) -> None:
         Path(args.json).write_text(json.dumps([r[6] for r in rows], indent=1))
 
 
+def tolerances(args: argparse.Namespace) -> None:
+    import h5py
+
+    with tempfile.TemporaryDirectory() as tmp:
+        procs, outs = [], []
+        for value in args.values:
+            out = Path(tmp) / f"tol-{value}.h5"
+            cmd = [sys.executable, "-m", "porenet", "run", str(SCENE), "-o", str(out), "-q",
+                   "--threads", "1", "--set", f"stop.max_drained={args.max_drained}",
+                   "--set", f"solid.solver_tolerance={value}"]  # fmt: skip
+            procs.append((subprocess.Popen(cmd), time.perf_counter()))
+            outs.append(out)
+        walls = [0.0] * len(procs)
+        while not all(walls):
+            for i, (proc, t0) in enumerate(procs):
+                if not walls[i] and proc.poll() is not None:
+                    if proc.returncode != 0:
+                        raise SystemExit(f"a run failed: {proc.args}")
+                    walls[i] = time.perf_counter() - t0
+            time.sleep(0.2)
+        runs = []
+        for out in outs:
+            with h5py.File(out) as f:
+                runs.append({
+                    "summary": dict(f["summary"].attrs),
+                    "order": f["invasion/order"][()],
+                    "removed": f["final/removed_springs"][()],
+                    "displacement": f["final/displacement"][()],
+                    "apertures": f["final/apertures"][()],
+                })  # fmt: skip
+    print("| solver_tolerance (a) | wall (s) | mechanics (s) | updates | ms per update | "
+          "V-cycles | same drained order | same open contacts | largest displacement "
+          "difference (a) | largest aperture difference (a) |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    first = runs[0]
+    import tomllib
+
+    a = tomllib.loads(SCENE.read_text())["lattice"]["pore_size"]  # m
+    for value, wall, run in zip(args.values, walls, runs, strict=True):
+        s = run["summary"]
+        per = 1e3 * s["mechanics_time_s"] / max(int(s["mechanical_updates"]), 1)
+        same = len(run["order"]) == len(first["order"]) and bool(
+            np.all(run["order"] == first["order"]))
+        du = np.abs(run["displacement"] - first["displacement"]).max() / a
+        dh = np.abs(run["apertures"] - first["apertures"]).max() / a
+        print(f"| {value} | {wall:.1f} | {s['mechanics_time_s']:.1f} | "
+              f"{s['mechanical_updates']} | {per:.1f} | {s['solver_iterations']} | "
+              f"{'yes' if same else 'no'} | "
+              f"{'yes' if np.array_equal(run['removed'], first['removed']) else 'no'} | "
+              f"{du:.2g} | {dh:.2g} |")  # fmt: skip
+
+
+def profile(max_drained: int, top: int) -> None:
+    import cProfile
+    import pstats
+
+    from porenet.simulation import Simulation
+    from porenet.threads import configure_threads
+
+    configure_threads(1)
+    Simulation.from_scene(SCENE, ["lattice.n=40", "stop.max_drained=20"]).run()  # load kernels
+    sim = Simulation.from_scene(SCENE, [f"stop.max_drained={max_drained}"])
+    profiler = cProfile.Profile()
+    result = profiler.runcall(sim.run)
+    summary = result.summary
+    mechanics = summary["mechanics_time_s"]
+    stats = pstats.Stats(profiler).stats  # (file, line, name) -> (cc, nc, tottime, ...)
+    rows = sorted(((v[2], v[1], k) for k, v in stats.items()), reverse=True)[:top]
+    print(f"{summary['mechanical_updates']} updates, mechanics {mechanics:.1f} s "
+          f"({1e3 * mechanics / max(summary['mechanical_updates'], 1):.1f} ms an update, one "
+          f"thread), V-cycles {summary['solver_iterations']}, builds "
+          f"{summary['multigrid_builds']}\n")  # fmt: skip
+    print("| function | calls | total (s) | share of the mechanics |")
+    print("|---|---|---|---|")
+    for tottime, calls, (file, _, name) in rows:
+        print(f"| {Path(file).stem}.{name} | {calls} | {tottime:.2f} | "
+              f"{100 * tottime / mechanics:.1f} % |")
+
+
+def sweep_cost() -> None:
+    import tomllib
+
+    from porenet import load_scene
+    from porenet.core.cost import estimate_cost
+    from porenet.sweep.spec import expand, load_sweep
+
+    sweeps = ROOT / "examples" / "sweeps"
+    data = tomllib.loads((sweeps / "fig3.toml").read_text())
+    data["base"] = str(SCENE)
+    runs = expand(load_sweep(data, base_dir=sweeps))
+    total = sum(estimate_cost(load_scene(run.scene)).wall_seconds for run in runs)
+    print(f"fig3.toml on {SCENE.name}: {len(runs)} runs, {total / 3600:.1f} h of runs by the "
+          f"cost model (~{total / 7200:.1f} h on 2 workers)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="what", required=True)
@@ -141,9 +253,24 @@ def main() -> None:
     rn.add_argument("--loads", nargs="+", type=int, default=[0])
     rn.add_argument("--repeat", type=int, default=1)
     rn.add_argument("--json", default=None, help="write every run's summary here")
+    tl = sub.add_parser("tolerance")
+    tl.add_argument("--values", nargs="+", type=float, default=[1e-3, 1e-2])
+    tl.add_argument("--max-drained", type=int, default=150)
+    pr = sub.add_parser("profile")
+    pr.add_argument("--max-drained", type=int, default=60)
+    pr.add_argument("--top", type=int, default=16)
+    sub.add_parser("sweep-cost")
     args = parser.parse_args()
+    if args.what == "sweep-cost":
+        sweep_cost()
+        return
+    if args.what == "profile":
+        profile(args.max_drained, args.top)
+        return
     if args.what == "updates":
         updates(args.n, args.repeat)
+    elif args.what == "tolerance":
+        tolerances(args)
     else:
         runs(args)
 

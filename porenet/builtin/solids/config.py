@@ -192,10 +192,10 @@ class HertzMindlinConfig(HertzConfig):
         "applies).",
     )
     solver_tolerance: float = Field(
-        1e-3,
+        1e-2,
         ge=0,
-        description="Multigrid: stop when the correction one more iteration would make "
-        "changes no contact's compression or tangential displacement by more than this, in "
+        description="Multigrid: stop when the correction one more iteration would "
+        "change no contact's compression or tangential displacement by more than this, in "
         "units of the pore size a (-); the force left out of balance is carried to the next "
         "update, never lost. 0 solves to round-off.",
     )

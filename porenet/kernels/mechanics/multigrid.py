@@ -61,9 +61,11 @@ from porenet.kernels.mechanics.multigrid_levels import (
     interpolation,
 )
 from porenet.kernels.mechanics.multigrid_smoothing import (
+    column_residual,
     column_sweep,
     line_factors,
     off_row,
+    row_residual,
     row_sweep,
     smoothing_lines,
 )
@@ -203,12 +205,16 @@ def workspace(hierarchy: Hierarchy) -> Workspace:
 
 @njit
 def _restrict_residual(hierarchy: Hierarchy, lvl: int, work: Workspace) -> None:
-    """Level ``lvl + 1``'s right-hand side: ``P^T (b - A x)`` of level ``lvl``."""
+    """Level ``lvl + 1``'s right-hand side: ``P^T (b - A x)`` of level ``lvl``, after its
+    pre-smoothing (:func:`v_cycle`): with one direction of lines relaxed from zero, the
+    residual is what that sweep left (:func:`row_residual`, :func:`column_residual`: a third
+    of the stencil to read, none on the odd columns); after both directions, ``b - A x``."""
     stencil, weight = hierarchy.stencil, hierarchy.interpolation_weight
     rows, cols = hierarchy.shape[lvl, 0], hierarchy.shape[lvl, 1]
     base, width = hierarchy.offset[lvl], cols + 2
     x, b = work.solution, work.rhs
     corners = lvl > 0
+    lines = hierarchy.sweeps
     cbase, cend = hierarchy.offset[lvl + 1], hierarchy.offset[lvl + 2]
     cwidth = hierarchy.shape[lvl + 1, 1] + 2
     for p in range(cbase, cend):
@@ -216,14 +222,21 @@ def _restrict_residual(hierarchy: Hierarchy, lvl: int, work: Workspace) -> None:
     for r in range(rows):
         start = base + (r + 1) * width + 1
         parents = cbase + (r // 2) * cwidth
-        for c in range(cols):
+        odd = r % 2 == 1
+        for c in range(0, cols, 2 if lines == 2 else 1):
             p = start + c
-            res = (b[p] - stencil[C, p] * x[p] - stencil[W, p] * x[p - 1]
-                   - stencil[E, p] * x[p + 1]
-                   - off_row(stencil, x, p, width, corners))  # fmt: skip
+            if lines == 1:
+                res = row_residual(stencil, x, p, width, corners)
+            elif lines == 2:
+                res = column_residual(stencil, x, p, c, width, corners)
+            else:
+                res = (b[p] - stencil[C, p] * x[p] - stencil[W, p] * x[p - 1]
+                       - stencil[E, p] * x[p + 1]
+                       - off_row(stencil, x, p, width, corners))  # fmt: skip
             q = parents + c // 2
-            b[q] += weight[0, p] * res
-            b[q + 1] += weight[1, p] * res
+            if not odd:  # an odd row's only parents are above it (Hierarchy)
+                b[q] += weight[0, p] * res
+                b[q + 1] += weight[1, p] * res
             b[q + cwidth] += weight[2, p] * res
             b[q + cwidth + 1] += weight[3, p] * res
     _zero_ring(b, cbase, hierarchy.shape[lvl + 1, 0], hierarchy.shape[lvl + 1, 1])
@@ -253,6 +266,12 @@ def _interpolate_correction(hierarchy: Hierarchy, lvl: int, x: np.ndarray) -> No
     for r in range(rows):
         start = base + (r + 1) * width + 1
         parents = cbase + (r // 2) * cwidth
+        if r % 2 == 1:  # an odd row's only parents are above it: half the weights to read
+            for c in range(cols):
+                p = start + c
+                q = parents + c // 2 + cwidth
+                x[p] += weight[2, p] * x[q] + weight[3, p] * x[q + 1]
+            continue
         for c in range(cols):
             p = start + c
             q = parents + c // 2
@@ -290,20 +309,23 @@ def v_cycle(hierarchy: Hierarchy, work: Workspace) -> None:
     level 0 of ``work.rhs`` (module docstring)."""
     x, b, line = work.solution, work.rhs, work.line
     levels = hierarchy.shape.shape[0]
+    lines = hierarchy.sweeps
     for lvl in range(levels - 1):
-        x[hierarchy.offset[lvl] : hierarchy.offset[lvl + 1]] = 0.0
-        if hierarchy.sweeps & 1:
-            row_sweep(hierarchy, lvl, x, b, line, False)
-        if hierarchy.sweeps & 2:
-            column_sweep(hierarchy, lvl, x, b, work.residual, False)
+        # pre-smoothing from x = 0: one direction's sweep knows it and writes every point
+        if lines == 3:
+            x[hierarchy.offset[lvl] : hierarchy.offset[lvl + 1]] = 0.0
+        if lines & 1:
+            row_sweep(hierarchy, lvl, x, b, line, False, lines == 1)
+        if lines & 2:
+            column_sweep(hierarchy, lvl, x, b, work.residual, False, lines == 2)
         _restrict_residual(hierarchy, lvl, work)
     _coarsest_solve(hierarchy, levels - 1, work)
     for lvl in range(levels - 2, -1, -1):
         _interpolate_correction(hierarchy, lvl, x)
         if hierarchy.sweeps & 2:
-            column_sweep(hierarchy, lvl, x, b, work.residual, True)
+            column_sweep(hierarchy, lvl, x, b, work.residual, True, False)
         if hierarchy.sweeps & 1:
-            row_sweep(hierarchy, lvl, x, b, line, True)
+            row_sweep(hierarchy, lvl, x, b, line, True, False)
 
 
 @njit
@@ -332,40 +354,37 @@ def refresh_finest(hierarchy: Hierarchy, operator: Operator) -> None:
 
 
 @njit
-def _apply_finest(hierarchy: Hierarchy, x: np.ndarray, out: np.ndarray) -> None:
+def _apply_finest(hierarchy: Hierarchy, x: np.ndarray, out: np.ndarray) -> float:
     """``out = A x`` on the finest level (ring-padded vectors) with its five-point stencil,
-    which :func:`build` and :func:`refresh_finest` keep equal to the current operator."""
+    which :func:`build` and :func:`refresh_finest` keep equal to the current operator;
+    returns ``x . A x`` (read in the same pass)."""
     a = hierarchy.stencil
     rows, cols = hierarchy.shape[0, 0], hierarchy.shape[0, 1]
     width = cols + 2
+    product = 0.0
     for r in range(rows):
         start = (r + 1) * width + 1
         for p in range(start, start + cols):
             out[p] = (a[C, p] * x[p] + a[W, p] * x[p - 1] + a[E, p] * x[p + 1]
                       + a[S, p] * x[p - width] + a[N, p] * x[p + width])  # fmt: skip
+            product += x[p] * out[p]
+    return product
 
 
 @njit
-def _largest_deformation(hierarchy: Hierarchy, x: np.ndarray) -> float:
+def _largest_deformation(hierarchy: Hierarchy, x: np.ndarray, y: np.ndarray) -> tuple:
     """Largest change of an edge's length that a displacement increment ``x`` (ring-padded,
-    finest level, 0 on the ring) makes: ``max |x_p - x_q|`` over joined neighbours, the
-    fixed ring included."""
+    finest level, 0 on the ring) makes, ``max |x_p - x_q|`` over joined neighbours, the
+    fixed ring included; and ``x . y`` (read in the same pass)."""
     rows, cols = hierarchy.shape[0, 0], hierarchy.shape[0, 1]
     width = cols + 2
-    largest = 0.0
+    largest, product = 0.0, 0.0
     for r in range(rows + 1):
         start = (r + 1) * width
         for p in range(start, start + cols + 1):
             largest = max(largest, abs(x[p] - x[p - 1]), abs(x[p] - x[p - width]))
-    return largest
-
-
-@njit(helper=True)
-def _dot(x: np.ndarray, y: np.ndarray) -> float:
-    total = 0.0
-    for p in range(x.shape[0]):
-        total += x[p] * y[p]
-    return total
+            product += x[p] * y[p]
+    return largest, product
 
 
 @njit
@@ -419,18 +438,17 @@ def solve(
         pdir[:] = 0.0
         for it in range(1, max_iterations + 1):
             v_cycle(hierarchy, work)  # z = M^-1 r
-            if _largest_deformation(hierarchy, z) <= deformation_tolerance:
+            deformation, rz_new = _largest_deformation(hierarchy, z, r)
+            if deformation <= deformation_tolerance:
                 for p in range(fine):
                     xp[p] += z[p]
                 status = it
                 break
-            rz_new = _dot(r, z)
             beta = rz_new / rz if it > 1 else 0.0
             for p in range(fine):
                 pdir[p] = z[p] + beta * pdir[p]
             rz = rz_new
-            _apply_finest(hierarchy, pdir, q)
-            pq = _dot(pdir, q)
+            pq = _apply_finest(hierarchy, pdir, q)
             if not math.isfinite(pq):
                 status = -2
                 break

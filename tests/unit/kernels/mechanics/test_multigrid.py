@@ -110,3 +110,76 @@ def test_levels_coarsen_any_size():
     assert mg.level_shapes(399) == [(399, 399), (199, 199), (99, 99), (49, 49), (24, 24),
                                     (12, 12)]  # fmt: skip
     assert mg.level_shapes(7) == [(7, 7)]
+
+
+def _apply_v_cycle(hierarchy, work, r):
+    """``M^-1 r`` of one V-cycle, on the finest level's interior (flat, m*m)."""
+    rows, cols = hierarchy.shape[0]
+    fine = int(hierarchy.offset[1])
+    padded = np.zeros((rows + 2, cols + 2))
+    padded[1:-1, 1:-1] = r.reshape(rows, cols)
+    work.rhs[:fine] = padded.ravel()
+    mg.v_cycle(hierarchy, work)
+    return work.solution[:fine].reshape(rows + 2, cols + 2)[1:-1, 1:-1].ravel().copy()
+
+
+@pytest.mark.parametrize("flip", [False, True], ids=["rows", "columns"])
+@pytest.mark.parametrize("crack", [0, 12])
+def test_the_v_cycle_is_a_symmetric_positive_preconditioner(flip, crack):
+    """The pre-smoothing starts from zero and its residual is taken from what it changed
+    (docs/model.md, "Solver"); the post-smoothing runs the other way: the V-cycle stays a
+    symmetric positive definite operator, as the conjugate gradient method needs, with either
+    direction of lines."""
+    m = 41
+    op = random_operator(m, 0.3, crack, seed=7)
+    if flip:
+        op = mg.Operator(op.across_rows.T.copy(), op.across_columns.T.copy(), op.diagonal)
+    hierarchy = mg.build(op)
+    assert hierarchy.sweeps == (2 if flip else 1)
+    work = mg.workspace(hierarchy)
+    rng = np.random.default_rng(7)
+    r1, r2 = rng.standard_normal(m * m), rng.standard_normal(m * m)
+    z1, z2 = _apply_v_cycle(hierarchy, work, r1), _apply_v_cycle(hierarchy, work, r2)
+    assert abs(z1 @ r2 - r1 @ z2) <= 1e-12 * abs(z1 @ r2)
+    assert z1 @ r1 > 0 and z2 @ r2 > 0
+    # linear: the V-cycle of a sum is the sum of the V-cycles (nothing left from a cycle)
+    np.testing.assert_allclose(_apply_v_cycle(hierarchy, work, r1 + r2), z1 + z2,
+                               rtol=0, atol=1e-12 * np.abs(z1 + z2).max())  # fmt: skip
+
+
+@pytest.mark.parametrize("flip", [False, True], ids=["rows", "columns"])
+def test_the_residual_after_smoothing_from_zero_is_b_minus_a_x(flip):
+    """What :func:`row_residual` and :func:`column_residual` give after a forward sweep from
+    zero is the plain residual ``b - A x`` of the finest level, from the sparse matrix."""
+    from porenet.kernels.mechanics import multigrid_smoothing as sm
+
+    m = 23
+    op = random_operator(m, 0.5, 5, seed=11)
+    if flip:
+        op = mg.Operator(op.across_rows.T.copy(), op.across_columns.T.copy(), op.diagonal)
+    hierarchy = mg.build(op)
+    work = mg.workspace(hierarchy)
+    b = np.random.default_rng(11).standard_normal(m * m)
+    width = m + 2
+    padded = np.zeros((m + 2, m + 2))
+    padded[1:-1, 1:-1] = b.reshape(m, m)
+    work.rhs[: width * width] = padded.ravel()
+    work.solution[:] = 7.0  # not cleared by the sweep: every interior point is written
+    work.solution[: width * width].reshape(width, width)[[0, -1], :] = 0.0
+    work.solution[: width * width].reshape(width, width)[:, [0, -1]] = 0.0
+    if flip:
+        sm.column_sweep(hierarchy, 0, work.solution, work.rhs, work.residual, False, True)
+    else:
+        sm.row_sweep(hierarchy, 0, work.solution, work.rhs, work.line, False, True)
+    x = work.solution[: width * width].reshape(width, width)[1:-1, 1:-1].ravel()
+    plain = b - sparse_matrix(op) @ x
+    fused = np.empty(m * m)
+    for r in range(m):
+        for c in range(m):
+            p = (r + 1) * width + c + 1
+            if flip:
+                res = sm.column_residual(hierarchy.stencil, work.solution, p, c, width, False)
+            else:
+                res = sm.row_residual(hierarchy.stencil, work.solution, p, width, False)
+            fused[r * m + c] = res
+    np.testing.assert_allclose(fused, plain, rtol=0, atol=1e-12 * np.abs(b).max())
