@@ -37,6 +37,7 @@ def _scene(fluid: dict[str, Any], n: int = 12, **sections: Any) -> dict[str, Any
 
 _VISCOUS = {"kind": "viscous", "capillary_number": 1e-3}
 _HERTZ = {"kind": "hertz", "fracturing_number": 1.0}
+_MINDLIN = {"kind": "hertz-mindlin", "fracturing_number": 10.0, "shear_stiffness_ratio": 0.5}
 _CUBIC = {"kind": "cubic", "shape": [6, 6, 6], "disorder": 0.3, "pore_size": 1e-7}
 
 #: Scenes that together call every kernel of the built-in kinds.
@@ -74,6 +75,24 @@ WARM_UPS: tuple[WarmUp, ...] = (
     WarmUp(
         "Hertz solid, sparse direct solver",
         _scene({"kind": "invasion-percolation"}, solid=_HERTZ | {"solver": "sparse-direct"}),
+    ),
+    WarmUp(
+        "viscous model in a frictional solid (multigrid)",
+        _scene(_VISCOUS, n=40, solid=_MINDLIN, stop={"max_drained": 40}),
+    ),
+    WarmUp(
+        "frictional solid with sliding",
+        _scene(
+            {"kind": "invasion-percolation"},
+            solid=_MINDLIN | {"friction": 0.3},
+            stop={"max_drained": 40},
+        )
+        # lambda = 0.3 runs away at N_f = 10 with sliding (docs/stability.md)
+        | {"lattice": {"kind": "square", "n": 40, "disorder": 0.1, "pore_size": 1e-7}},
+    ),
+    WarmUp(
+        "frictional solid with free rotations (sparse direct)",
+        _scene({"kind": "invasion-percolation"}, solid=_MINDLIN | {"rotation": "free"}),
     ),
 )
 

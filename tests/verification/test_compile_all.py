@@ -21,7 +21,7 @@ import json, sys
 from porenet.compilation import watch
 from porenet.simulation import Simulation
 w = watch()
-fig1b, fig5, ip, cubic = sys.argv[1:5]
+fig1b, fig5, ip, cubic, mindlin = sys.argv[1:6]
 cases = [
     (fig1b, ["lattice.n=100"]),
     (fig1b, ["lattice.n=100", "fluid.capillary_number=1e-5"]),
@@ -37,6 +37,9 @@ cases = [
     (ip, ["lattice.n=100", "fluid.trapping=false"]),
     (cubic, ["lattice.shape=[10, 10, 10]"]),
     (cubic, ["lattice.shape=[10, 10, 10]", "fluid.integrator=rkc", "injection.at=z-"]),
+    (mindlin, ["lattice.n=60"]),
+    (mindlin, ["lattice.n=50", "solid.friction=0.2", "solid.fracturing_number=3"]),
+    (mindlin, ["lattice.n=20", "solid.rotation=free", "solid.fracturing_number=0.1"]),
 ]
 counts = []
 for scene, sets in cases:
@@ -56,10 +59,11 @@ def test_after_porenet_compile_no_run_compiles(tmp_path):
     assert "porenet compile:" in done.stdout
     scenes = [str(ROOT / "examples" / "scenes" / f) for f in ("fig1b.toml", "fig5.toml",
                                                                 "ip-400.toml",
-                                                                "cubic-viscous.toml")]  # fmt: skip
+                                                                "cubic-viscous.toml",
+                                                                "fig5-mindlin.toml")]  # fmt: skip
     check = subprocess.run(
         [sys.executable, "-c", CHECK, *scenes], env=env, capture_output=True, text=True,
         check=False,
     )  # fmt: skip
     assert check.returncode == 0, check.stderr
-    assert json.loads(check.stdout.strip().splitlines()[-1]) == [0] * 12
+    assert json.loads(check.stdout.strip().splitlines()[-1]) == [0] * 15

@@ -10,7 +10,7 @@ import pytest
 
 import porenet
 from porenet.builtin.solids.config import HertzMindlinConfig
-from porenet.core.errors import ConfigError
+from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.plan import make_plan
 from porenet.hooks import get_registry
 from porenet.io.runfile import read_run
@@ -231,3 +231,19 @@ def test_multigrid_needs_the_square_grid():
     with pytest.raises(ConfigError):
         porenet.run(sc)
 
+
+@pytest.mark.parametrize("solver", ["multigrid", "sparse-direct"])
+def test_a_runaway_is_reported_not_returned(solver):
+    """Invasion percolation at N_f = 10, lambda = 0.3, sliding with held rotations: the
+    contact iteration finds no bounded equilibrium and the displacements grow without bound
+    update after update (to 1e40 a, or until the multigrid's line factors hit a zero pivot).
+    The run stops with a NumericalError naming the update and the drained pores
+    (docs/stability.md, "Frictional contacts"), never a ZeroDivisionError or a run file of
+    garbage that only looks suspect."""
+    sc = scene(n=40, fracturing_number=10.0, shear_stiffness_ratio=0.5, friction=0.3,
+               solver=solver)  # fmt: skip
+    sc["lattice"]["disorder"] = 0.3
+    sc["stop"] = {"max_drained": 40}
+    with pytest.raises(NumericalError, match=r"runaway displacement .* mechanical update \d+ "
+                                             r"after \d+ drained pores"):  # fmt: skip
+        porenet.run(sc)

@@ -10,7 +10,7 @@ import numpy as np
 
 from porenet.builtin.solids.config import HertzMindlinConfig
 from porenet.builtin.solids.hertz import HertzSolid
-from porenet.core.errors import ConfigError
+from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.interfaces import Lattice, RunContext
 from porenet.core.state import State
 from porenet.kernels.mechanics.springs import Stat
@@ -19,6 +19,11 @@ from porenet.kernels.mechanics.springs import Stat
 #: the solver's tolerance (a global solve moves every contact a little; docs/model.md,
 #: "Frictional solid (kind hertz-mindlin)").
 APERTURE_LAG = 0.01
+
+
+#: A displacement this many lattice widths is a runaway (:meth:`HertzMindlinSolid.
+#: _check_bounded`).
+RUNAWAY = 1e6
 
 
 class HertzMindlinSolid(HertzSolid):
@@ -200,6 +205,7 @@ class HertzMindlinSolid(HertzSolid):
                           state.spring_force, self.shear.force, law.foundation_stiffness,
                           self._force, self._torque)  # fmt: skip
         residual = fr.largest_imbalance(self._force, self._torque, self._fixed, law.rotation)
+        self._check_bounded(state, sliding)
         self.n_removed += opened
         self._sliding = sliding
         self.largest_sliding = max(self.largest_sliding, sliding)
@@ -215,6 +221,23 @@ class HertzMindlinSolid(HertzSolid):
         stats[Stat.FINITE] = 1.0
         return self._changed[:n_changed].copy()
 
+    def _check_bounded(self, state: State, sliding: int) -> None:
+        """A particle that moved :data:`RUNAWAY` times further than the lattice is wide is a
+        runaway, not a result (a crushed solid, N_f = 1e3, moves ~1e2 lattice widths and is
+        flagged as suspect instead): raise, naming the update (docs/stability.md, "Frictional
+        contacts")."""
+        assert state.displacement is not None
+        extent = float(np.ptp(self._xy, axis=0).max())  # a
+        largest = float(np.abs(state.displacement).max())
+        if not largest <= RUNAWAY * extent:
+            raise NumericalError(
+                f"hertz-mindlin solid: runaway displacement ({largest:.3g} a, over {RUNAWAY:g} "
+                f"times the lattice's {extent:.3g} a) in mechanical update {self.updates + 1} "
+                f"after {state.n_drained} drained pores (t = {state.time:g} scaled), {sliding} "
+                "contacts sliding: the contact iteration found no bounded equilibrium "
+                "(docs/stability.md, \"Frictional contacts\")"
+            )
+
     def _solve_increments(self, work: Any) -> int:
         """Solve the linear system of the current trial laws for the increments (from the
         previous contact iteration's, if any); returns the solver's iterations (1 for a direct
@@ -228,9 +251,19 @@ class HertzMindlinSolid(HertzSolid):
                                     self._du, self._dtheta)  # fmt: skip
             return 1
         solver = self._grid_solver
-        iterations, converged, rebuilt = solver.solve(work.normal_stiffness, work.shear_stiffness,
-                                                      law.foundation_stiffness, self._force,
-                                                      self._du)  # fmt: skip
+        try:
+            iterations, converged, rebuilt = solver.solve(
+                work.normal_stiffness, work.shear_stiffness, law.foundation_stiffness,
+                self._force, self._du,
+            )  # fmt: skip
+        except (ZeroDivisionError, np.linalg.LinAlgError) as exc:
+            stiff = work.normal_stiffness / self.k0
+            raise NumericalError(
+                f"hertz-mindlin solid: the multigrid found the stiffness matrix singular ({exc}) "
+                f"in mechanical update {self.updates + 1}; normal contact stiffnesses from "
+                f"{stiff.min():.3g} to {stiff.max():.3g} K_0 (docs/stability.md, \"Frictional "
+                "contacts\")"
+            ) from None
         self.hierarchy_builds += rebuilt
         if not converged:
             self.unconverged_solves += 1
