@@ -322,9 +322,9 @@ def v_cycle(hierarchy: Hierarchy, work: Workspace) -> None:
     _coarsest_solve(hierarchy, levels - 1, work)
     for lvl in range(levels - 2, -1, -1):
         _interpolate_correction(hierarchy, lvl, x)
-        if hierarchy.sweeps & 2:
+        if lines & 2:
             column_sweep(hierarchy, lvl, x, b, work.residual, True, False)
-        if hierarchy.sweeps & 1:
+        if lines & 1:
             row_sweep(hierarchy, lvl, x, b, line, True, False)
 
 

@@ -33,6 +33,19 @@ def smoothing_lines(operator: Any) -> int:
     return 1 if across_columns >= across_rows else 2
 
 
+@njit(helper=True)
+def _eliminate(
+    diagonal: float, lower: float, upper: float, previous: float, factor: np.ndarray, p: int,
+) -> float:  # fmt: skip
+    """One step of the Thomas algorithm's factorisation at point ``p`` of a line: stores the
+    eliminated upper coefficient and the inverse pivot in ``factor[:, p]`` and returns the
+    former (the next point's ``previous``)."""
+    inverse = 1.0 / (diagonal - lower * previous)
+    factor[0, p] = upper * inverse
+    factor[1, p] = inverse
+    return factor[0, p]
+
+
 @njit
 def line_factors(
     stencil: np.ndarray, shape: np.ndarray, offset: np.ndarray, lvl: int,
@@ -57,10 +70,8 @@ def line_factors(
                     p = base + (first + k + 1) * width + c + 1
                     lower = stencil[W, p] if c > 0 else 0.0
                     upper = stencil[E, p] if c < cols - 1 else 0.0
-                    inverse = 1.0 / (stencil[C, p] - lower * previous[k])
-                    previous[k] = upper * inverse
-                    row_factor[0, p] = previous[k]
-                    row_factor[1, p] = inverse
+                    previous[k] = _eliminate(stencil[C, p], lower, upper, previous[k],
+                                             row_factor, p)  # fmt: skip
     if sweeps & 2:
         previous = np.zeros(cols)
         for r in range(rows):
@@ -68,10 +79,8 @@ def line_factors(
                 p = base + (r + 1) * width + c + 1
                 lower = stencil[S, p] if r > 0 else 0.0
                 upper = stencil[N, p] if r < rows - 1 else 0.0
-                inverse = 1.0 / (stencil[C, p] - lower * previous[c])
-                previous[c] = upper * inverse
-                column_factor[0, p] = previous[c]
-                column_factor[1, p] = inverse
+                previous[c] = _eliminate(stencil[C, p], lower, upper, previous[c],
+                                         column_factor, p)  # fmt: skip
 
 
 @njit(helper=True)
