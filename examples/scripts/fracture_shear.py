@@ -19,7 +19,11 @@ segments). ``--patterns`` draws, for seed 1 at ``--pattern-nf``, the literal mod
 hertz-mindlin setting side by side.
 
 Every run is appended to ``--records`` (JSON lines) as it ends, and runs already there are
-not repeated: an interrupted study resumes where it stopped.
+not repeated: an interrupted study resumes where it stopped. Several processes can share a
+study (one records file each, all of them given to the report); ``--no-run`` reports what
+the files hold without running the rest (each row names its seeds). Each record keeps the
+run's CPU time (the table's column) and how many contacts it froze (``frozen``,
+docs/run-file.md's ``frozen_contacts``).
 """
 
 from __future__ import annotations
@@ -28,6 +32,7 @@ import argparse
 import json
 import statistics
 import sys
+import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -55,8 +60,10 @@ def solid_of(ratio: float | None, friction: float | None, rotation: str = "held"
 def measure(n: int, setting: dict, nf: float, seed: int, keep: bool = False) -> dict:
     """One run of Fig. 5's scene with the solid fields ``setting``: its shape and cost
     (the run's data under ``"data"`` if ``keep``)."""
+    cpu = time.process_time()
     wall, res = run(n, nf, None, foundation=setting.pop("foundation", None), seed=seed,
                     solid=setting)  # fmt: skip
+    cpu = time.process_time() - cpu
     d_f, straight = shape(res.data, n)
     runs = straight_runs(res.data.as_grid(res.data.drained), thin=True)
     long = runs[runs >= LONG_RUN]
@@ -68,7 +75,9 @@ def measure(n: int, setting: dict, nf: float, seed: int, keep: bool = False) -> 
         "segment": float(long.mean()) if long.size else 0.0,
         "updates": res.summary.get("mechanical_updates", 0),
         "sliding": res.summary.get("largest_sliding_contacts", 0),
+        "frozen": res.summary.get("frozen_contacts", 0),
         "wall": wall,
+        "cpu": cpu,
     }
     if keep:
         record["data"] = res.data
@@ -87,7 +96,12 @@ def main() -> None:
     parser.add_argument("--nf", type=float, nargs="+", default=[0.1, 0.3, 1.0, 3.0, 10.0, 30.0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     parser.add_argument("--threads", type=int, default=1, help="threads per run (default 1)")
-    parser.add_argument("--records", type=Path, help="JSON lines, one per run (resumable)")
+    parser.add_argument("--records", type=Path, nargs="+",
+                        help="JSON lines, one per run (resumable): runs found in any of these "
+                        "files are not repeated; new ones are appended to the first")  # fmt: skip
+    parser.add_argument("--no-run", action="store_true",
+                        help="only report the runs already in --records (a study that several "
+                        "sessions or machines share); points without one are left out")  # fmt: skip
     parser.add_argument("--table", type=Path, help="markdown table")
     parser.add_argument("--out", type=Path, help="figure: D_f against N_f (PNG)")
     parser.add_argument("--patterns", type=Path, help="figure: patterns, seed 1 (PNG)")
@@ -103,8 +117,10 @@ def main() -> None:
         parser.error("--friction must be >= 0 or 'none'")
     configure_threads(args.threads)
     done = {}
-    if args.records and args.records.exists():
-        for line in args.records.read_text().splitlines():
+    for records in args.records or ():
+        if not records.exists():
+            continue
+        for line in records.read_text().splitlines():
             rec = {"rotation": "held", **json.loads(line)}
             done[tuple(rec[k] for k in POINT)] = rec
     rows = []
@@ -114,13 +130,17 @@ def main() -> None:
                 runs = []
                 for seed in args.seeds:
                     key = (args.n, ratio, friction, args.rotation, nf, seed)
+                    if key not in done and args.no_run:
+                        continue
                     if key not in done:
                         rec = measure(args.n, solid_of(ratio, friction, args.rotation), nf, seed)
                         done[key] = dict(zip(POINT, key, strict=True), **rec)
                         if args.records:
-                            with args.records.open("a") as f:
+                            with args.records[0].open("a") as f:
                                 f.write(json.dumps(done[key]) + "\n")
                     runs.append(done[key])
+                if not runs:
+                    continue
                 rows.append(aggregate(runs, ratio=ratio, friction=friction, nf=nf))
                 print(line_of(rows[-1]), flush=True)
     if args.table:
@@ -141,6 +161,9 @@ def aggregate(runs: list[dict], **point: float | None) -> dict:
         row[key] = statistics.fmean(values)
         row[key + "_sd"] = statistics.pstdev(values) if len(values) > 1 else 0.0
     row["wall"] = statistics.fmean(r["wall"] for r in runs)
+    # CPU time where recorded (one thread: the wall time unless the run was paused or shared)
+    row["cpu"] = statistics.fmean(r.get("cpu", r["wall"]) for r in runs)
+    row["seeds"] = ",".join(str(r["seed"]) for r in runs)
     row["sliding"] = max(r["sliding"] for r in runs)
     return row
 
@@ -153,25 +176,24 @@ def line_of(r: dict) -> str:
     return (f"K_t/K_n {r['ratio']:<4g} {friction_label(r['friction']):<10} N_f {r['nf']:<5g} "
             f"D_f {r['d_f']:.3f} +- {r['d_f_sd']:.3f}  drained {r['drained']:7.0f}  removed "
             f"{r['removed']:6.0f}  straight {r['straight']:5.0f}  segment {r['segment']:5.1f}  "
-            f"{r['wall']:6.1f} s/run")  # fmt: skip
+            f"{r['wall']:6.1f} s/run  seeds {r['seeds']}")  # fmt: skip
 
 
 def write_table(rows: list[dict], args: argparse.Namespace) -> None:
-    seeds = ", ".join(str(s) for s in args.seeds)
     lines = [
         f"n = {args.n}, lambda = {LAMBDA}, Ca* = 10, solid kind hertz-mindlin (rotations "
-        f"{args.rotation}), "
-        f"seeds {seeds}, to breakthrough; mean +- standard deviation over the seeds "
-        "(`python examples/scripts/fracture_shear.py`).",
+        f"{args.rotation}), to breakthrough; mean +- standard deviation over the seeds of each "
+        "row, CPU time of one run on one thread (`python examples/scripts/fracture_shear.py`).",
         "",
         "| K_t/K_n | sliding | N_f | D_f (mass-radius) | drained pores | springs removed | "
-        "longest straight run | mean straight segment | most sliding contacts | wall (s/run) |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "longest straight run | mean straight segment | most sliding contacts | CPU (s/run) | "
+        "seeds |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     lines += [
         f"| {r['ratio']:g} | {friction_label(r['friction'])} | {r['nf']:g} | {r['d_f']:.3f} +- "
         f"{r['d_f_sd']:.3f} | {r['drained']:.0f} | {r['removed']:.0f} | {r['straight']:.0f} | "
-        f"{r['segment']:.1f} | {r['sliding']} | {r['wall']:.1f} |"
+        f"{r['segment']:.1f} | {r['sliding']} | {r['cpu']:.1f} | {r['seeds']} |"
         for r in rows
     ]
     args.table.write_text("\n".join(lines) + "\n")

@@ -232,18 +232,53 @@ def test_multigrid_needs_the_square_grid():
         porenet.run(sc)
 
 
-@pytest.mark.parametrize("solver", ["multigrid", "sparse-direct"])
-def test_a_runaway_is_reported_not_returned(solver):
-    """Invasion percolation at N_f = 10, lambda = 0.3, sliding with held rotations: the
-    contact iteration finds no bounded equilibrium and the displacements grow without bound
-    update after update (to 1e40 a, or until the multigrid's line factors hit a zero pivot).
-    The run stops with a NumericalError naming the update and the drained pores
-    (docs/stability.md, "Frictional contacts"), never a ZeroDivisionError or a run file of
-    garbage that only looks suspect."""
+def _far_beyond_the_prestress(solver: str) -> dict:
+    """Invasion percolation at N_f = 10, lambda = 0.3, sliding, rotations held, n = 40: the
+    pressure loads on the inlet's particles are ~30 times the contacts' prestress force."""
     sc = scene(n=40, fracturing_number=10.0, shear_stiffness_ratio=0.5, friction=0.3,
                solver=solver)  # fmt: skip
     sc["lattice"]["disorder"] = 0.3
     sc["stop"] = {"max_drained": 40}
-    with pytest.raises(NumericalError, match=r"runaway displacement .* mechanical update \d+ "
-                                             r"after \d+ drained pores"):  # fmt: skip
-        porenet.run(sc)
+    return sc
+
+
+@pytest.mark.parametrize("solver", ["multigrid", "sparse-direct"])
+def test_contacts_frozen_at_their_kink_keep_particles_apart(solver):
+    """Under loads far beyond the prestress, shear makes the contact iteration cycle and
+    contacts are frozen for the rest of an update (docs/stability.md, "Frictional contacts").
+    Frozen open, as before 2026-12-06, they let particles pass through each other by 1e4 a in
+    the second update and the run grew without bound (1e40 a with the sparse direct solver, a
+    zero pivot in the multigrid). Frozen re-forming, the run reaches breakthrough with every
+    particle within the lattice's width of its place, no open contact left overlapping, and
+    the forces balanced."""
+    r = porenet.run(_far_beyond_the_prestress(solver))
+    assert r.summary["n_drained"] > 3 and r.summary["unsettled_updates"] == 0
+    mech = r.data.mechanics_final
+    width = 2 * 40  # a
+    assert np.abs(mech["displacement"] / A).max() < width
+    assert (mech["spring_compression"][mech["removed_springs"]] / A).max() <= 1e-9
+    assert r.summary["largest_balance_residual"] <= 1e-9
+
+
+def test_a_runaway_is_reported_not_returned(monkeypatch):
+    """Should an update ever leave a particle a million lattice widths away (injected here
+    into the kernel that applies an update), the run stops with a NumericalError naming the
+    update, the drained pores and the load against the prestress, never a run file of
+    garbage that only looks suspect."""
+    from porenet.kernels.mechanics import frictional as fr
+
+    apply = fr.apply_increments
+    calls = []
+
+    def runaway(springs, shear, law, work, du, dtheta, displacement, *rest):
+        out = apply(springs, shear, law, work, du, dtheta, displacement, *rest)
+        calls.append(1)
+        if len(calls) == 3:
+            displacement[5, 1] += 1e12
+        return out
+
+    monkeypatch.setattr(fr, "apply_increments", runaway)
+    with pytest.raises(NumericalError, match=r"runaway displacement .* mechanical update 3 "
+                                             r"after \d+ drained pores .* times the contacts' "
+                                             r"prestress force"):  # fmt: skip
+        porenet.run(_far_beyond_the_prestress("sparse-direct"))

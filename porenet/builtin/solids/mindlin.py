@@ -112,10 +112,17 @@ class HertzMindlinSolid(HertzSolid):
         self._no_dirty = np.zeros(0, dtype=bool)
         #: Round-off in the force balance: relative to the prestress force F_0.
         self.force_tolerance = 1e-12 * float(max(np.max(state.spring_force), 1.0))
+        #: The contacts' largest prestress force F_0 (gamma a), to judge loads by.
+        self.prestress_force = float(np.max(state.spring_force))
         self.solver_iterations = 0
         self.unconverged_solves = 0
         self.hierarchy_builds = 0
         self.largest_sliding = 0
+        #: Contacts frozen for the rest of an update after cycling between modes, and
+        #: contacts that started an update re-forming (left in contact at h <= 0), summed
+        #: over the updates (docs/model.md, "Frictional solid": "Solver").
+        self.frozen_contacts = 0
+        self.reformed_at_start = 0
         #: Wall time spent in updates that solved something (s).
         self.seconds = 0.0
         #: How far (a) the apertures the fluid sees may lag the geometric ones: a hundredth of
@@ -178,7 +185,7 @@ class HertzMindlinSolid(HertzSolid):
         law, work = self.friction_law, self._work
         springs = self._spring_state(state)
         assert state.displacement is not None
-        fr.start_update(springs, self.shear, work)
+        self.reformed_at_start += fr.start_update(springs, self.shear, law, work)
         iterations, unsettled, solves = 0, 0, 0
         self._du[:] = 0.0
         self._dtheta[:] = 0.0
@@ -196,6 +203,7 @@ class HertzMindlinSolid(HertzSolid):
             if last:  # applied with the modes of this last solve; its imbalance is carried
                 unsettled = 1
                 break
+        self.frozen_contacts += int(np.count_nonzero(work.flips >= fr.MAX_FLIPS))
         n_changed, largest, opened, sliding, finite = fr.apply_increments(
             springs, self.shear, law, work, self._du, self._dtheta, state.displacement,
             self.rotation, self.aperture_map, self._changed, self.aperture_lag,
@@ -234,12 +242,15 @@ class HertzMindlinSolid(HertzSolid):
         u = state.displacement
         largest = max(float(u.max()), -float(u.min()))  # no temporary: every update
         if not largest <= RUNAWAY * extent:
+            load = float(np.max(np.hypot(self._load[:, 0], self._load[:, 1])))
             raise NumericalError(
                 f"hertz-mindlin solid: runaway displacement ({largest:.3g} a, over {RUNAWAY:g} "
                 f"times the lattice's {extent:.3g} a) in mechanical update {self.updates + 1} "
                 f"after {state.n_drained} drained pores (t = {state.time:g} scaled), {sliding} "
-                "contacts sliding: the contact iteration found no bounded equilibrium "
-                "(docs/stability.md, \"Frictional contacts\")"
+                f"contacts sliding; the largest pressure load on a particle is "
+                f"{load / self.prestress_force:.3g} times the contacts' prestress force: the "
+                "contact iteration found no bounded equilibrium (docs/stability.md, "
+                "\"Frictional contacts\", on loads far beyond the prestress)"
             )
 
     def _solve_increments(self, work: Any) -> int:
@@ -292,6 +303,8 @@ class HertzMindlinSolid(HertzSolid):
             mechanics_time_s=self.seconds,
             sliding_contacts=int(np.count_nonzero(self.shear.mode)),
             largest_sliding_contacts=self.largest_sliding,
+            frozen_contacts=self.frozen_contacts,
+            contacts_reformed_at_start=self.reformed_at_start,
         )
         return out
 

@@ -42,12 +42,16 @@ update, the force it sheds carried as an imbalance like any other. The update is
 until no contact changes mode (:func:`next_modes`): a sliding contact whose trial force is no
 longer beyond the cap on its side sticks (it never jumps to sliding the other way), and a
 contact that changed mode :data:`MAX_FLIPS` times in one update keeps its mode for the rest of
-it, open if it kept opening and closing: shear couples the contacts, and the paper's
-incremental law (whose force is discontinuous where a contact opens) can make the iteration
-cycle between two sets of open contacts; the force the frozen contacts leave out of balance is
-carried to the next update and the update counted as unsettled only if the iteration still
-had not settled after ``max_iterations``. With ``mu`` infinite no
-contact slides.
+it: shear couples the contacts, and the paper's incremental law (whose force is discontinuous
+where a contact opens) can make the iteration cycle between two sets of open contacts. One that
+kept opening and closing sits at ``h = 0`` and keeps the re-forming law (force ``K_0 h``, zero
+there, stiff both ways; open if re-contact is off): frozen open, a contact under a load many
+times the prestress let its particles pass through each other by 1e4 a in one update
+(docs/stability.md, "Frictional contacts"), and a contact left in contact at ``h <= 0`` starts
+the next update re-forming (:func:`start_update`). The force the frozen contacts leave out
+of balance is carried to the next update and the update counted as unsettled only if the
+iteration still had not settled after ``max_iterations``. With ``mu`` infinite no contact
+slides.
 
 Forces on the particles (:func:`out_of_balance`): ``F e + S t`` on ``n`` and its opposite on
 ``m``; with rotations, the torque ``-l S`` on both (the contact point sits at ``-l e`` from
@@ -65,6 +69,7 @@ from porenet.kernels.jit import njit
 from porenet.kernels.mechanics.springs import (
     IN_CONTACT,
     OPEN,
+    RECONTACT,
     REDUCED_RADIUS,
     ApertureMap,
     SpringState,
@@ -79,7 +84,7 @@ LEVER = 1.0
 STICK, SLIDE = 0, 1
 
 #: Changes of mode after which a contact keeps its mode for the rest of an update (one that
-#: kept opening and closing stays open).
+#: kept opening and closing keeps the re-forming law).
 MAX_FLIPS = 4
 
 
@@ -181,14 +186,26 @@ def _hertz_tangent(h: float, modulus: float) -> float:
 
 
 @njit
-def start_update(springs: SpringState, shear: ShearState, work: Increments) -> None:
-    """Begin an update: the modes of every contact as the last update left them."""
+def start_update(
+    springs: SpringState, shear: ShearState, law: FrictionLaw, work: Increments
+) -> int:
+    """Begin an update: the modes of every contact as the last update left them, except that
+    a contact left in contact at ``h <= 0`` (by a contact frozen at its kink, or an unsettled
+    update) re-forms, where re-contact is allowed: it has no Hertz tangent, and with the
+    cohesive stiffness alone a load could push its particles through each other. Returns how
+    many contacts start re-forming so."""
+    reforming = 0
     for s in range(springs.mode.shape[0]):
         work.normal_mode[s] = springs.mode[s]
         work.shear_mode[s] = shear.mode[s]
+        if springs.mode[s] == IN_CONTACT and springs.compression[s] <= 0.0 and law.recontact:
+            work.normal_mode[s] = RECONTACT
+            work.shear_mode[s] = STICK
+            reforming += 1
         work.flips[s] = 0
         work.compression[s] = 0.0
         work.tangential[s] = 0.0
+    return reforming
 
 
 @njit
@@ -294,8 +311,11 @@ def next_modes(
         if new != mode:
             if commit:
                 work.flips[s] += 1
-                # a contact that keeps opening and closing stays open (no tension wins)
-                work.normal_mode[s] = OPEN if work.flips[s] >= MAX_FLIPS else new
+                if work.flips[s] >= MAX_FLIPS and law.recontact:
+                    # it keeps opening and closing: it sits at h = 0, and keeps the re-forming
+                    # law (zero force there, stiff both ways) for the rest of the update
+                    new = RECONTACT
+                work.normal_mode[s] = new
                 work.shear_mode[s] = STICK
             changed += 1
             continue

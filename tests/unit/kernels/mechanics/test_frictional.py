@@ -58,7 +58,7 @@ class FrictionalNetwork:
     def update(self, load: np.ndarray, solver: str = "sparse") -> int:
         """One update under ``load`` with the contact iteration; returns the iterations."""
         work = fr.increments(len(self.springs))
-        fr.start_update(self.state, self.shear, work)
+        fr.start_update(self.state, self.shear, self.law, work)
         du, dtheta = np.zeros_like(self.xy), np.zeros(len(self.xy))
         force, torque = np.zeros_like(self.xy), np.zeros(len(self.xy))
         mg = GridSolver(self.grid, 0.0, 1e-15, 500) if solver == "multigrid" else None
@@ -255,3 +255,24 @@ def test_a_particle_without_contacts_is_held_by_cohesion():
     assert np.abs(force).max() <= 1e-10 * net.state.force.max()
     assert np.abs(torque).max() <= 1e-10 * net.state.force.max()
     assert np.abs(net.shear.force[springs]).max() <= 1e-3 * net.state.force.max()
+
+
+@pytest.mark.parametrize("recontact", [True, False])
+def test_a_contact_left_apart_starts_the_next_update_re_forming(recontact):
+    """A contact left in contact at h <= 0 (a contact frozen at its kink ends an update at
+    h slightly below 0) has no Hertz tangent: it starts the next update re-forming (K_0 h,
+    sticking) where re-contact is allowed, so a load cannot push its particles through each
+    other on the cohesive stiffness alone; with re-contact off it keeps its mode."""
+    net = FrictionalNetwork(6, 0.5, friction=0.3)
+    law = net.law._replace(recontact=recontact)
+    apart = [3, 7]
+    net.state.compression[apart] = [-1e-3, 0.0]
+    net.shear.mode[apart] = fr.SLIDE
+    work = fr.increments(len(net.springs))
+    reforming = fr.start_update(net.state, net.shear, law, work)
+    assert reforming == (2 if recontact else 0)
+    expected = mk.RECONTACT if recontact else mk.IN_CONTACT
+    np.testing.assert_array_equal(work.normal_mode[apart], expected)
+    others = np.setdiff1d(np.arange(len(net.springs)), apart)
+    assert (work.normal_mode[others] == mk.IN_CONTACT).all()
+    assert (work.shear_mode[apart] == (fr.STICK if recontact else fr.SLIDE)).all()
