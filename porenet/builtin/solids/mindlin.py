@@ -56,7 +56,6 @@ class HertzMindlinSolid(HertzSolid):
         from porenet.kernels.mechanics.grid import find_grid
 
         self._grid = None
-        self._extent: float | None = None  # the lattice's width (a), for _check_bounded
         if config.rotation == "held" and config.solver in ("auto", "multigrid"):
             self._grid = find_grid(self._xy, self._springs, self._fixed)
             if self._grid is None and config.solver == "multigrid":
@@ -110,10 +109,12 @@ class HertzMindlinSolid(HertzSolid):
         self._dtheta = np.zeros(n_particles)
         self._no_chain = np.full((n_particles, 2), -1, dtype=np.int64)
         self._no_dirty = np.zeros(0, dtype=bool)
-        #: Round-off in the force balance: relative to the prestress force F_0.
-        self.force_tolerance = 1e-12 * float(max(np.max(state.spring_force), 1.0))
         #: The contacts' largest prestress force F_0 (gamma a), to judge loads by.
         self.prestress_force = float(np.max(state.spring_force))
+        #: Round-off in the force balance: relative to the prestress force F_0.
+        self.force_tolerance = 1e-12 * max(self.prestress_force, 1.0)
+        #: The lattice's width (a), which :meth:`_check_bounded` judges displacements by.
+        self._extent = float(max(np.ptp(self._xy[:, 0]), np.ptp(self._xy[:, 1])))
         self.solver_iterations = 0
         self.unconverged_solves = 0
         self.hierarchy_builds = 0
@@ -236,8 +237,6 @@ class HertzMindlinSolid(HertzSolid):
         flagged as suspect instead): raise, naming the update (docs/stability.md, "Frictional
         contacts")."""
         assert state.displacement is not None
-        if self._extent is None:  # once: a reduction over every particle (ms at n = 400)
-            self._extent = float(max(np.ptp(self._xy[:, 0]), np.ptp(self._xy[:, 1])))  # a
         extent = self._extent
         u = state.displacement
         largest = max(float(u.max()), -float(u.min()))  # no temporary: every update
