@@ -7,14 +7,18 @@ after every fluid step, versus wall time, for each coupling schedule and solver.
         --out docs/figures/accuracy-mechanics-n100.png --table docs/accuracy-mechanics-n100.md
     python examples/scripts/accuracy_mechanics.py --solid hertz-mindlin --n 100 --seeds 2 \\
         --out docs/figures/accuracy-mindlin-n100.png --table docs/accuracy-mindlin-n100.md
+    python examples/scripts/accuracy_mechanics.py --solid hertz-mindlin --friction 0.3 --n 50 \\
+        --seeds 2 --out docs/figures/accuracy-mindlin-sliding-n50.png \\
+        --table docs/accuracy-mindlin-sliding-n50.md
 
 Scenes: n x n, centre injection, lambda = 0.1, the viscous model at Ca* = Ca (L/a) /
 [lambda/(1-lambda^2)] = 10 as in the paper's Fig. 5, a Hertzian solid at fracturing number
-N_f (``--solid hertz``, or ``hertz-mindlin`` with K_t / K_n = ``--shear-ratio``, rotations held,
-no sliding), seeds 1..K (``--seeds``), to breakthrough. Near N_f = 1 a single pattern is chaotic (a
-one-pore difference early on can decide which fracture wins), so errors are means over
-seeds. The reference updates the solid after every fluid time step, passing on every
-pressure change (``coupling = "every-step"``); each other run changes one knob:
+N_f (``--solid hertz``, or ``hertz-mindlin`` with K_t / K_n = ``--shear-ratio``, rotations held
+or ``--rotation free``, Coulomb sliding with ``--friction MU``, none without), seeds 1..K
+(``--seeds``), to breakthrough. Near N_f = 1 a single pattern is chaotic (a one-pore
+difference early on can decide which fracture wins), so errors are means over seeds. The
+reference updates the solid after every fluid time step, passing on every pressure change
+(``coupling = "every-step"``); each other run changes one knob:
 
 * ``coupling = "adaptive"`` with ``coupling_tolerance`` (a deformation, units of a) swept:
   pressure changes smaller than ``tolerance K_0 / A_p`` may go unseen (docs/model.md);
@@ -23,7 +27,8 @@ pressure change (``coupling = "every-step"``); each other run changes one knob:
   solves everything at every update, so it ignores the adaptive tolerance's second half);
 * hertz-mindlin only: ``solver_tolerance`` (the multigrid-preconditioned conjugate gradient's
   relative residual) swept, and ``solver = "sparse-direct"`` instead of the multigrid. Its
-  reference also solves to ``solver_tolerance = 1e-9``.
+  reference also solves to ``solver_tolerance = 1e-9``. With ``--rotation free`` (which only
+  the sparse direct solver takes) the solver rows are left out.
 
 Errors against the reference:
 
@@ -115,30 +120,48 @@ def main() -> None:
     parser.add_argument("--no-sparse", action="store_true", help="skip the sparse solver")
     parser.add_argument("--solid", choices=["hertz", "hertz-mindlin"], default="hertz")
     parser.add_argument("--shear-ratio", type=float, default=0.5, help="K_t / K_n (mindlin)")
+    parser.add_argument(
+        "--friction", type=float, help="Coulomb friction coefficient (mindlin; default: none)"
+    )
+    parser.add_argument(
+        "--rotation", choices=["held", "free"], default="held", help="particle rotations (mindlin)"
+    )
     parser.add_argument("--out", type=Path, help="figure (PNG)")
     parser.add_argument("--table", type=Path, help="markdown table")
     args = parser.parse_args()
 
     if args.shear_ratio <= 0:
         parser.error("--shear-ratio must be > 0")
+    if args.solid != "hertz-mindlin" and (args.friction is not None or args.rotation != "held"):
+        parser.error("--friction and --rotation need --solid hertz-mindlin")
+    if args.friction is not None and args.friction < 0:
+        parser.error("--friction must be >= 0")
     knobs, reference = KNOBS, {"coupling": "every-step"}
     solid = {"kind": args.solid}
     if args.solid == "hertz-mindlin":
         knobs, reference = MINDLIN_KNOBS, MINDLIN_REFERENCE
         solid["shear_stiffness_ratio"] = args.shear_ratio
+        if args.friction is not None:
+            solid["friction"] = args.friction
+        if args.rotation == "free":
+            # free rotations couple x and y: only the sparse direct solver takes them
+            solid |= {"rotation": "free", "solver": "sparse-direct"}
+            knobs = {k: v for k, v in knobs.items() if k not in ("solver", "solver_tolerance")}
     run(scene(10, args.ca_star, args.nf, **solid))  # warm-up: load the numba cache
     seeds = list(range(1, args.seeds + 1))
-    refs, wall_ref, updates_ref = [], 0.0, 0
+    refs, wall_ref, updates_ref, frozen_ref = [], 0.0, 0, 0
     for seed in seeds:
         wall, ref = run(scene(args.n, args.ca_star, args.nf, seed, **solid, **reference))
         refs.append(ref)
         wall_ref += wall / len(seeds)
         updates_ref += ref.summary["mechanical_updates"] // len(seeds)
+        frozen_ref += ref.summary.get("frozen_contacts", 0) // len(seeds)
         summary = ref.summary
         print(
             f"reference (every-step, seed {seed}): {wall:.2f} s, "
             f"{summary['mechanical_updates']} updates, {summary['time_steps']} steps, "
-            f"{summary['n_drained']} drained, {summary['springs_removed']} springs removed"
+            f"{summary['n_drained']} drained, {summary['springs_removed']} springs removed, "
+            f"{summary.get('frozen_contacts', 0)} contacts frozen"
         )
     rows = []
     for knob, (values, extra) in knobs.items():
@@ -147,12 +170,13 @@ def main() -> None:
         for value in values:
             if value == "sparse-direct" and args.no_sparse:
                 continue
-            walls, updates, errs = [], [], []
+            walls, updates, frozen, errs = [], [], [], []
             for seed, ref in zip(seeds, refs, strict=True):
                 sc = scene(args.n, args.ca_star, args.nf, seed, **solid, **extra, **{knob: value})
                 wall, res = run(sc)
                 walls.append(wall)
                 updates.append(res.summary["mechanical_updates"])
+                frozen.append(res.summary.get("frozen_contacts", 0))
                 errs.append(errors(ref, res))
             err = {key: float(np.mean([e[key] for e in errs])) for key in errs[0]}
             rows.append(
@@ -161,30 +185,37 @@ def main() -> None:
                     "value": value,
                     "wall": float(np.mean(walls)),
                     "updates": int(np.mean(updates)),
+                    "frozen": int(np.mean(frozen)),
                     **err,
                 }
             )
             print(
                 f"  {knob:>18} = {value!s:<13} {rows[-1]['wall']:7.2f} s  updates "
                 f"{rows[-1]['updates']:>7d}  pattern {err['pattern']:.2e}  "
-                f"t_bt {err['breakthrough_time']:.2e}  deformation {err['deformation']:.2e}",
+                f"t_bt {err['breakthrough_time']:.2e}  deformation {err['deformation']:.2e}  "
+                f"frozen {rows[-1]['frozen']}",
                 flush=True,
             )
     if args.table:
+        # contacts the iteration froze (summed over updates, mean over seeds): mindlin only
+        frozen_col = args.solid == "hertz-mindlin"
         lines = [
             f"Scene: n = {args.n}, lambda = {LAMBDA}, {describe(solid)}, Ca* = {args.ca_star:g} "
             f"(Ca = {capillary_number_at(args.ca_star, args.n, LAMBDA):.3g}), N_f = {args.nf:g}, "
             f"seeds "
             f"1-{args.seeds}, to breakthrough; errors and times are means over the seeds. "
-            f"Reference: {describe(reference)}, {wall_ref:.2f} s, {updates_ref} updates.",
+            f"Reference: {describe(reference)}, {wall_ref:.2f} s, {updates_ref} updates"
+            + (f", {frozen_ref} contacts frozen" if frozen_col else "")
+            + ".",
             "",
             "| knob | value | wall (s) | updates | pattern error | breakthrough-time error "
-            "| deformation error |",
-            "|---|---|---|---|---|---|---|",
+            "| deformation error |" + (" frozen contacts |" if frozen_col else ""),
+            "|---|---|---|---|---|---|---|" + ("---|" if frozen_col else ""),
         ]
         lines += [
             f"| {r['knob']} | {r['value']} | {r['wall']:.2f} | {r['updates']} | "
             f"{r['pattern']:.2e} | {r['breakthrough_time']:.2e} | {r['deformation']:.2e} |"
+            + (f" {r['frozen']} |" if frozen_col else "")
             for r in rows
         ]
         args.table.write_text("\n".join(lines) + "\n")
