@@ -28,7 +28,9 @@ reference updates the solid after every fluid time step, passing on every pressu
 * hertz-mindlin only: ``solver_tolerance`` (the multigrid-preconditioned conjugate gradient's
   relative residual) swept, and ``solver = "sparse-direct"`` instead of the multigrid. Its
   reference also solves to ``solver_tolerance = 1e-9``. With ``--rotation free`` (which only
-  the sparse direct solver takes) the solver rows are left out.
+  the sparse direct solver takes) the solver rows are left out. With ``--friction``,
+  ``slip_tolerance`` is swept too (the reference solves again after every change of sliding
+  mode, ``slip_tolerance = 0``).
 
 Errors against the reference:
 
@@ -73,6 +75,8 @@ MINDLIN_KNOBS = {
     "solver": (["multigrid", "sparse-direct"], {"coupling": "adaptive"} | _AT_1E3),
 }
 MINDLIN_REFERENCE = {"coupling": "every-step", "solver_tolerance": 1e-9}
+#: With sliding: the slip tolerance too (0: every change of sliding mode solved again).
+SLIP_KNOB = {"slip_tolerance": ([1e-1, 1e-2, 1e-3, 0.0], {"coupling": "adaptive"})}
 
 
 def scene(n: int, ca_star: float, nf: float, seed: int = 1, **solid: object) -> dict:
@@ -143,6 +147,8 @@ def main() -> None:
         solid["shear_stiffness_ratio"] = args.shear_ratio
         if args.friction is not None:
             solid["friction"] = args.friction
+            knobs = knobs | SLIP_KNOB
+            reference = reference | {"slip_tolerance": 0.0}
         if args.rotation == "free":
             # free rotations couple x and y: only the sparse direct solver takes them
             solid |= {"rotation": "free", "solver": "sparse-direct"}

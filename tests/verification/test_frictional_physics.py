@@ -84,14 +84,15 @@ def test_multigrid_and_sparse_direct_give_the_same_run(fluid):
     ids=["stick", "slide", "rotate", "rotate-slide"],
 )
 def test_forces_balance_to_round_off_at_every_update(nf, solid):
-    """With the solver at round-off, every update leaves every free particle in force (and,
+    """With the solver at round-off and every change of sliding mode solved again
+    (``slip_tolerance = 0``), every update leaves every free particle in force (and,
     where particles rotate, torque) balance to round-off: the largest residual of the run,
     relative to the prestress force F_0, is at the level of the solve's round-off (the
     stiffnesses span 1e6: open contacts keep 1e-6 K_0). Free rotations at N_f = 0.3, where
     contacts stay closed: where they open, a particle held on one side rolls freely (no
     rolling resistance) and the run reflects that mechanism (docs/model.md)."""
     res = porenet.run(scene(fluid={**VISCOUS, **RATE}, fracturing_number=nf,
-                            solver_tolerance=0.0, **solid))  # fmt: skip
+                            solver_tolerance=0.0, slip_tolerance=0.0, **solid))  # fmt: skip
     f0 = _prestress_force(nf)
     residuals = res.data.mechanics_series["balance_residual"]
     assert len(residuals) == res.summary["mechanical_updates"] > 10
@@ -99,6 +100,28 @@ def test_forces_balance_to_round_off_at_every_update(nf, solid):
     assert res.summary["unsettled_updates"] == 0
     if nf > 1:
         assert res.summary["springs_removed"] > 0
+
+
+@pytest.mark.parametrize("rotation", ["held", "free"])
+def test_a_slip_tolerance_bounds_the_imbalance_it_leaves(rotation):
+    """With the default slip tolerance delta = 1e-2 a, a change between sticking and sliding
+    small enough takes effect without another solve: the run needs fewer solves than with
+    every change solved, and the force it leaves out of balance on a particle stays below its
+    four contacts' K_t delta (K_t taken at twice the prestress stiffness K_0: no contact is
+    compressed to four times its prestress here)."""
+    nf, ratio, delta = 3.0, 0.8, 1e-2
+    solid = {"shear_stiffness_ratio": ratio, "friction": 0.3, "rotation": rotation,
+             "solver": "sparse-direct"}  # fmt: skip
+    fluid = {**VISCOUS, **RATE}
+    runs = {
+        slip: porenet.run(scene(fluid=fluid, fracturing_number=nf, slip_tolerance=slip, **solid))
+        for slip in (0.0, delta)
+    }
+    exact, tolerant = runs[0.0], runs[delta]
+    assert tolerant.summary["solver_iterations"] < exact.summary["solver_iterations"]
+    residual = tolerant.data.mechanics_series["balance_residual"].max()
+    assert residual <= 4 * ratio * 2 * _prestress_stiffness(nf) * delta * A
+    assert tolerant.summary["sliding_contacts"] > 0
 
 
 def _prestress_stiffness(nf: float) -> float:

@@ -202,6 +202,15 @@ class HertzMindlinConfig(HertzConfig):
     max_solver_iterations: int = Field(
         200, ge=1, description="Most multigrid iterations per solve (-); more is reported."
     )
+    slip_tolerance: float = Field(
+        1e-2,
+        ge=0,
+        description="With friction: a contact whose change between sticking and sliding "
+        "decides a slip of at most this (units of the pore size a, -), i.e. moves its "
+        "tangential force by at most K_t times it, changes mode without another solve of the "
+        "update; the force this leaves out of balance is carried to the next update. 0 solves "
+        'again after every change (docs/model.md, "Frictional solid", Solver).',
+    )
 
     @model_validator(mode="after")
     def _one_shear_stiffness(self) -> HertzMindlinConfig:

@@ -101,6 +101,7 @@ class HertzMindlinSolid(HertzSolid):
             friction=np.inf if cfg.friction is None else float(cfg.friction),
             rotation=cfg.rotation == "free",
             max_iterations=cfg.max_contact_iterations,
+            slip_tolerance=cfg.slip_tolerance,
         )
         self._work = fr.increments(m)
         self._force = np.zeros((n_particles, 2))

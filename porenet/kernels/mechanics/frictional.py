@@ -40,7 +40,13 @@ start of the update (Tresca's law within an update: every solve stays symmetric 
 problem convex); a contact whose normal force then fell below ``|S| / mu`` slides at the next
 update, the force it sheds carried as an imbalance like any other. The update is solved again
 until no contact changes mode (:func:`next_modes`): a sliding contact whose trial force is no
-longer beyond the cap on its side sticks (it never jumps to sliding the other way), and a
+longer beyond the cap on its side sticks (it never jumps to sliding the other way). A change
+between sticking and sliding that moves the contact's tangential force by at most ``K_t delta``
+(``delta`` the law's ``slip_tolerance``, in a) takes effect without another solve: the
+contact's force follows its new law when the update is applied (at the cap if it slides, its
+trial force if it sticks), so Coulomb's law holds at every contact and the force left out of
+balance, at most ``K_t delta`` a contact, is carried to the next update; near the cap the
+solves' own error (``solver_tolerance``) would otherwise flip such contacts back and forth. A
 contact that changed mode :data:`MAX_FLIPS` times in one update keeps its mode for the rest of
 it: shear couples the contacts, and the paper's incremental law (whose force is discontinuous
 where a contact opens) can make the iteration cycle between two sets of open contacts. One that
@@ -131,6 +137,10 @@ class FrictionLaw(NamedTuple):
         Whether the particles rotate (else their rotations are held at 0).
     max_iterations : int
         Most solves per update while contacts change mode.
+    slip_tolerance : float
+        ``delta`` (a): a contact whose change between sticking and sliding moves its
+        tangential force by at most ``K_t delta`` changes mode without another solve (module
+        docstring); 0: every change is solved again.
     """
 
     modulus: float
@@ -142,6 +152,7 @@ class FrictionLaw(NamedTuple):
     friction: float
     rotation: bool
     max_iterations: int
+    slip_tolerance: float
 
 
 class Increments(NamedTuple):
@@ -323,22 +334,48 @@ def next_modes(
             continue
         cap = law.friction * max(force[s], 0.0)
         tangent = max(_hertz_tangent(h[s], law.modulus), law.cohesion_stiffness)
-        trial = shear.force[s] - law.stiffness_ratio * tangent * work.tangential[s]
+        stick = law.stiffness_ratio * tangent
+        trial = shear.force[s] - stick * work.tangential[s]
+        # a change that moves the contact's force by at most K_t delta (the slip it decides
+        # is at most delta) takes effect without another solve: its force follows the new
+        # mode's law in apply_increments, the difference carried as an imbalance
+        band = stick * law.slip_tolerance
         if work.shear_mode[s] == SLIDE:
             # slides on while the trial force stays beyond the cap on its side (the slip goes
             # against the force); otherwise it sticks (never straight to the other side)
-            if shear.direction[s] * trial <= cap:
+            along = shear.direction[s] * trial
+            if along <= cap:
                 if commit:
                     work.shear_mode[s] = STICK
                     work.flips[s] += 1
+                    if along > cap - band:
+                        _stick_law(s, shear, stick, work)
+                        continue
                 changed += 1
         elif abs(trial) > cap:
             if commit:
                 work.shear_mode[s] = SLIDE
                 shear.direction[s] = 1.0 if trial > 0.0 else -1.0
                 work.flips[s] += 1
+                if abs(trial) <= cap + band:
+                    _slide_law(s, shear, law, cap, work)
+                    continue
             changed += 1
     return changed
+
+
+@njit(helper=True)
+def _stick_law(s: int, shear: ShearState, stick: float, work: Increments) -> None:
+    """Contact ``s``'s sticking law (:func:`trial_laws`), set without another solve."""
+    work.shear_stiffness[s] = stick
+    work.shear_base[s] = shear.force[s]
+
+
+@njit(helper=True)
+def _slide_law(s: int, shear: ShearState, law: FrictionLaw, cap: float, work: Increments) -> None:
+    """Contact ``s``'s sliding law (:func:`trial_laws`), set without another solve."""
+    work.shear_stiffness[s] = law.cohesion_stiffness if law.rotation else 0.0
+    work.shear_base[s] = shear.direction[s] * cap
 
 
 @njit

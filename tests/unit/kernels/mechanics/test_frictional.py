@@ -22,7 +22,7 @@ class FrictionalNetwork:
     """The square lattice's prestressed solid with frictional contacts, updated by hand."""
 
     def __init__(self, n: int, ratio: float, rotation: bool = False, friction: float = math.inf,
-                 angle: float = 0.0) -> None:  # fmt: skip
+                 angle: float = 0.0, slip_tolerance: float = 0.0) -> None:  # fmt: skip
         lat = SquareLattice(SquareLatticeConfig(n=n, disorder=0.1), np.random.default_rng(0))
         c, s = np.cos(angle), np.sin(angle)
         self.n = n
@@ -36,7 +36,7 @@ class FrictionalNetwork:
         self.state = mk.SpringState(h, mk.hertz_force(h, MODULUS), np.zeros(m, np.int8))
         self.shear = fr.ShearState(np.zeros(m), np.zeros(m), np.zeros(m, np.int8), np.ones(m))
         self.law = fr.FrictionLaw(MODULUS, 1e-6 * self.k0, self.k0, 0.0, True, ratio, friction,
-                                  rotation, 50)  # fmt: skip
+                                  rotation, 50, slip_tolerance)  # fmt: skip
         self.displacement = np.zeros_like(self.xy)
         self.rotation = np.zeros(len(self.xy))
         self.grid = find_grid(self.xy, self.springs, self.fixed)
@@ -276,3 +276,38 @@ def test_a_contact_left_apart_starts_the_next_update_re_forming(recontact):
     others = np.setdiff1d(np.arange(len(net.springs)), apart)
     assert (work.normal_mode[others] == mk.IN_CONTACT).all()
     assert (work.shear_mode[apart] == (fr.STICK if recontact else fr.SLIDE)).all()
+
+
+@pytest.mark.parametrize("rotation", [False, True])
+def test_a_small_change_of_sliding_mode_takes_effect_without_another_solve(rotation):
+    """With a slip tolerance delta, a contact whose change between sticking and sliding moves
+    its tangential force by at most K_t delta changes mode without another solve: Coulomb's
+    law still holds at every contact (sliding ones at mu F, sticking ones below it), each slip
+    still goes against the force, and the force this leaves out of balance on a particle is at
+    most its contacts' K_t delta. A delta far above any slip settles in one solve; with delta
+    = 0 the same load needs more solves and balances to round-off."""
+    mu = 0.01
+    exact = FrictionalNetwork(16, 0.8, rotation=rotation, friction=mu)
+    load = point_load(exact, 0.2 * exact.state.force[0])
+    solves_exact = exact.update(load)
+    force, _ = exact.imbalance(load)
+    assert np.abs(force).max() <= 1e-10 * exact.state.force.max()
+    for delta in (1e-4, 1e-2, 1e3):
+        net = FrictionalNetwork(16, 0.8, rotation=rotation, friction=mu, slip_tolerance=delta)
+        cap = mu * net.state.force.copy()
+        k_t = net.law.stiffness_ratio * mk.hertz_stiffness(net.state.compression, MODULUS)
+        solves = net.update(load)
+        slides = net.shear.mode == fr.SLIDE
+        assert slides.sum() >= 2
+        # with rotations a sliding contact keeps the cohesive k_c dd_t (1e-6 K_0 times the slip)
+        rtol = 1e-4 if rotation else 1e-12
+        np.testing.assert_allclose(np.abs(net.shear.force[slides]), cap[slides], rtol=rtol)
+        assert np.all(np.abs(net.shear.force[~slides]) <= cap[~slides] * (1 + rtol))
+        assert np.all(net.shear.force * net.shear.slip <= 0.0)
+        force, _ = net.imbalance(load)
+        bound = 4 * k_t.max() * delta  # four contacts a particle
+        assert np.abs(force).max() <= bound + 1e-10 * net.state.force.max()
+        assert solves <= solves_exact
+        if delta == 1e3:
+            assert solves == 1
+    assert solves_exact > 1
