@@ -22,10 +22,12 @@ from porenet.kernels.mechanics.grid import (
 REBUILD_MARGIN = 4
 
 #: ... or before a solve, when more than :data:`REBUILD_EDGES` edges' stiffnesses changed by
-#: more than this fraction of themselves since the build (contacts that opened, closed,
-#: started or stopped sliding): the V-cycle's correction is the solver's estimate of the error
-#: left, and it is a good one only while the hierarchy is close to the operator. Fewer
-#: changes are left to the finest level, which follows the operator at every solve.
+#: more than this fraction of themselves since the build (contacts that opened or closed):
+#: the V-cycle's correction is the solver's estimate of the error left, and it is a good one
+#: only while the hierarchy is close to the operator. Fewer changes are left to the finest
+#: level, which follows the operator at every solve, and so are contacts that started or
+#: stopped sliding (their edge goes to or from zero): with friction they change at nearly
+#: every update (:func:`porenet.kernels.mechanics.multigrid.drifted_edges`).
 REBUILD_DRIFT = 0.5
 REBUILD_EDGES = 32
 

@@ -332,14 +332,17 @@ def v_cycle(hierarchy: Hierarchy, work: Workspace) -> None:
 def drifted_edges(operator: Operator, reference: Operator, threshold: float) -> int:
     """Edges whose weight changed by more than ``threshold`` of itself between ``reference``
     (the operator a hierarchy was built from) and ``operator``: ``|w - w_0| > threshold
-    max(w, w_0)``."""
+    max(w, w_0)``. An edge that is zero in either is not counted: only a contact sliding with
+    rotations held has a zero weight (its tangential stiffness), and contacts at Coulomb's
+    cap start and stop sliding at nearly every update, which would rebuild the hierarchy
+    at nearly every solve (docs/performance.md, "Frictional solid")."""
     count = 0
     for a, b in ((operator.across_columns, reference.across_columns),
                  (operator.across_rows, reference.across_rows)):  # fmt: skip
         flat_a, flat_b = a.ravel(), b.ravel()
         for i in range(flat_a.shape[0]):
             w, w0 = flat_a[i], flat_b[i]
-            if abs(w - w0) > threshold * max(w, w0):
+            if w != 0.0 and w0 != 0.0 and abs(w - w0) > threshold * max(w, w0):
                 count += 1
     return count
 

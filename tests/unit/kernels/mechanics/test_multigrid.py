@@ -183,3 +183,21 @@ def test_the_residual_after_smoothing_from_zero_is_b_minus_a_x(flip):
                 res = sm.row_residual(hierarchy.stencil, work.solution, p, width, False)
             fused[r * m + c] = res
     np.testing.assert_allclose(fused, plain, rtol=0, atol=1e-12 * np.abs(b).max())
+
+
+def test_drifted_edges_count_opened_contacts_not_sliding_ones():
+    """The rebuild trigger counts edges whose weight changed by more than the threshold of
+    itself (a contact that opened: its weight falls to 1e-6 of the others), but not edges
+    that went to or from zero (a contact that started or stopped sliding with rotations held,
+    whose tangential stiffness is then zero): with friction those change at nearly every
+    update, and rebuilding for them cost more than the V-cycles it saved."""
+    built = random_operator(20, 0.5, 0, seed=3)
+    op = mg.Operator(built.across_columns.copy(), built.across_rows.copy(), built.diagonal)
+    assert mg.drifted_edges(op, built, 0.5) == 0
+    op.across_columns[4, 2:9] = 2e-6  # seven contacts opened
+    assert mg.drifted_edges(op, built, 0.5) == 7
+    op.across_rows[5, 0:12] = 0.0  # twelve started sliding
+    assert mg.drifted_edges(op, built, 0.5) == 7
+    assert mg.drifted_edges(built, op, 0.5) == 7  # and stopped
+    op.across_rows[6, 0:3] *= 1.2  # small changes: below the threshold
+    assert mg.drifted_edges(op, built, 0.5) == 7
