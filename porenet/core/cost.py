@@ -445,8 +445,8 @@ def estimate_cost(scene: Any) -> CostEstimate:
     if mindlin and getattr(solid, "friction", None) is not None:
         notes.append(
             "solid.friction: sliding contacts are iterated and change the operator; measured "
-            "2-27x the CPU time of the same run without sliding at n = 100, N_f >= 1, the more "
-            "the stiffer the contacts (docs/cost.md)"
+            "1.1-5.2x the CPU time of the same run without sliding at n = 100, N_f >= 1, the "
+            "more the stiffer the contacts (docs/cost.md)"
         )
     nf = None if rigid else solid_fracturing_number(scene)
     at = scene.injection.at
