@@ -297,6 +297,7 @@ class HertzMindlinSolid(HertzSolid):
             rotation=cfg.rotation,
             mechanics_solver=self.solver,
             solver_tolerance=cfg.solver_tolerance,
+            slip_tolerance=cfg.slip_tolerance,
             solver_iterations=self.solver_iterations,
             unconverged_solves=self.unconverged_solves,
             multigrid_builds=self.hierarchy_builds,
