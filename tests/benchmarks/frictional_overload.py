@@ -33,8 +33,7 @@ class Watch:
     """Watches every update of the frictional solid (wraps its bound check)."""
 
     def __init__(self) -> None:
-        self.load = self.displacement = 0.0
-        self.overlapping = 0
+        self.reset()
         self._check = mindlin.HertzMindlinSolid._check_bounded
         watch = self
 

@@ -231,6 +231,9 @@ def trial_laws(springs: SpringState, shear: ShearState, law: FrictionLaw, work: 
             tangent = max(_hertz_tangent(h[s], law.modulus), k_c)
             work.normal_stiffness[s] = tangent
             work.normal_base[s] = force[s]
+            # the laws of _slide_law and _stick_law, written out: called from this loop over
+            # every contact they were not optimised into it (3.4x slower on 320 000 contacts;
+            # docs/performance.md, "Where the time goes and what was done", on helpers)
             if work.shear_mode[s] == SLIDE:
                 # held rotations: each particle keeps its normal springs, no regularisation
                 work.shear_stiffness[s] = k_c if law.rotation else 0.0
