@@ -16,7 +16,9 @@ the springs removed, the longest straight drained run and the mean length of the
 straight segments (channels one pore wide, at least 5 pores long: the fractures' straight
 segments). ``--patterns`` draws, for seed 1 at ``--pattern-nf``, the literal model
 (``hertz``), the weak foundation (``hertz``, k_f = 0.02 K_0, docs/paper.md) and every
-hertz-mindlin setting side by side.
+hertz-mindlin setting side by side. ``--runs DIR`` keeps every run's run file in DIR (named
+after its point, :func:`run_file`); ``--patterns`` then draws the runs found there instead of
+running them again (a study at n = 400 costs 5-40 min a run).
 
 Every run is appended to ``--records`` (JSON lines) as it ends, and runs already there are
 not repeated: an interrupted study resumes where it stopped. Several processes can share a
@@ -57,31 +59,48 @@ def solid_of(ratio: float | None, friction: float | None, rotation: str = "held"
     return fields
 
 
-def measure(n: int, setting: dict, nf: float, seed: int, keep: bool = False) -> dict:
+def run_file(runs: Path, n: int, setting: dict, nf: float, seed: int) -> Path:
+    """Where ``--runs`` keeps the run file of one point (``setting``: :func:`solid_of`'s
+    fields, or ``{"foundation": k_f}`` for the literal model on a foundation)."""
+    if "foundation" in setting:
+        name = f"hertz-kf{setting['foundation']:g}"
+    elif not setting:
+        name = "hertz"
+    else:
+        friction = setting.get("friction")
+        sliding = "stick" if friction is None else f"mu{friction:g}"
+        name = f"mindlin-r{setting['shear_stiffness_ratio']:g}-{sliding}-{setting['rotation']}"
+    return runs / f"n{n}-{name}-nf{nf:g}-s{seed}.h5"
+
+
+def measure(n: int, setting: dict, nf: float, seed: int, keep: bool = False,
+            output: Path | None = None) -> dict:  # fmt: skip
     """One run of Fig. 5's scene with the solid fields ``setting``: its shape and cost
-    (the run's data under ``"data"`` if ``keep``)."""
+    (the run's data under ``"data"`` if ``keep``; its run file written to ``output`` if
+    given)."""
     cpu = time.process_time()
-    wall, res = run(n, nf, None, foundation=setting.pop("foundation", None), seed=seed,
+    wall, res = run(n, nf, output, foundation=setting.pop("foundation", None), seed=seed,
                     solid=setting)  # fmt: skip
     cpu = time.process_time() - cpu
-    d_f, straight = shape(res.data, n)
-    runs = straight_runs(res.data.as_grid(res.data.drained), thin=True)
+    return {**describe(res.data, res.summary, n), "wall": wall, "cpu": cpu,
+            **({"data": res.data} if keep else {})}  # fmt: skip
+
+
+def describe(data, summary: dict, n: int) -> dict:
+    """A finished run's shape (:data:`KEYS`) and the solver's counts from its summary."""
+    d_f, straight = shape(data, n)
+    runs = straight_runs(data.as_grid(data.drained), thin=True)
     long = runs[runs >= LONG_RUN]
-    record = {
+    return {
         "d_f": d_f,
-        "drained": res.summary["n_drained"],
-        "removed": res.summary.get("springs_removed", 0),
+        "drained": summary["n_drained"],
+        "removed": summary.get("springs_removed", 0),
         "straight": straight,
         "segment": float(long.mean()) if long.size else 0.0,
-        "updates": res.summary.get("mechanical_updates", 0),
-        "sliding": res.summary.get("largest_sliding_contacts", 0),
-        "frozen": res.summary.get("frozen_contacts", 0),
-        "wall": wall,
-        "cpu": cpu,
+        "updates": summary.get("mechanical_updates", 0),
+        "sliding": summary.get("largest_sliding_contacts", 0),
+        "frozen": summary.get("frozen_contacts", 0),
     }
-    if keep:
-        record["data"] = res.data
-    return record
 
 
 def main() -> None:
@@ -106,6 +125,9 @@ def main() -> None:
     parser.add_argument("--out", type=Path, help="figure: D_f against N_f (PNG)")
     parser.add_argument("--patterns", type=Path, help="figure: patterns, seed 1 (PNG)")
     parser.add_argument("--pattern-nf", type=float, default=10.0)
+    parser.add_argument("--runs", type=Path,
+                        help="keep every run's run file in this folder; --patterns draws the "
+                        "ones found there instead of running them again")  # fmt: skip
     args = parser.parse_args()
     try:
         frictions = [None if f == "none" else float(f) for f in args.friction]
@@ -115,6 +137,8 @@ def main() -> None:
         parser.error("--ratio and --nf must be > 0 and --n >= 8")
     if any(f is not None and f < 0 for f in frictions):
         parser.error("--friction must be >= 0 or 'none'")
+    if args.runs:
+        args.runs.mkdir(parents=True, exist_ok=True)
     configure_threads(args.threads)
     done = {}
     for records in args.records or ():
@@ -133,7 +157,9 @@ def main() -> None:
                     if key not in done and args.no_run:
                         continue
                     if key not in done:
-                        rec = measure(args.n, solid_of(ratio, friction, args.rotation), nf, seed)
+                        setting = solid_of(ratio, friction, args.rotation)
+                        out = run_file(args.runs, args.n, setting, nf, seed) if args.runs else None
+                        rec = measure(args.n, setting, nf, seed, output=out)
                         done[key] = dict(zip(POINT, key, strict=True), **rec)
                         if args.records:
                             with args.records[0].open("a") as f:
@@ -242,12 +268,25 @@ def draw_patterns(args: argparse.Namespace, frictions: list[float | None]) -> No
     fig = Figure(figsize=(3.4 * cols, 3.3 * n_rows), dpi=110, layout="constrained")
     axes = fig.subplots(n_rows, cols, squeeze=False).ravel()
     for ax, (label, setting) in zip(axes, settings, strict=False):
-        rec = measure(args.n, dict(setting), args.pattern_nf, 1, keep=True)
-        plot_pattern(rec["data"], ax=ax, title=f"{label}\nD_f = {rec['d_f']:.2f}")
+        data = kept_run(args, setting)
+        plot_pattern(data, ax=ax, title=f"{label}\nD_f = {shape(data, args.n)[0]:.2f}")
     for ax in axes[len(settings) :]:
         ax.set_axis_off()
     fig.suptitle(f"n = {args.n}, N_f = {args.pattern_nf:g}, Ca* = 10, seed 1", fontsize=10)
     save_figure(fig, args.patterns)
+
+
+def kept_run(args: argparse.Namespace, setting: dict):
+    """Seed 1 of ``setting`` at ``--pattern-nf``: read from ``--runs`` if a finished run is
+    there (its run file is written whole, only after the run ends), run otherwise (and kept
+    there)."""
+    from porenet import read_run
+
+    path = run_file(args.runs, args.n, setting, args.pattern_nf, 1) if args.runs else None
+    if path is not None and path.exists():
+        print(f"pattern from {path}", flush=True)
+        return read_run(path)
+    return measure(args.n, dict(setting), args.pattern_nf, 1, keep=True, output=path)["data"]
 
 
 if __name__ == "__main__":

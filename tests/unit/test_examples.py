@@ -83,6 +83,24 @@ def test_fracture_shear_script_runs_and_resumes(tmp_path):
     assert table.read_text().count("\n| 0.5 | no sliding | 10 |") == 1
 
 
+def test_fracture_shear_keeps_run_files_and_draws_patterns_from_them(tmp_path):
+    runs, figure = tmp_path / "runs", tmp_path / "patterns.png"
+    args = ["--n", "12", "--ratio", "0.5", "--friction", "none", "--nf", "10", "--seeds", "1",
+            "--records", str(tmp_path / "r.jsonl"), "--runs", str(runs)]  # fmt: skip
+    first = _script("fracture_shear.py", *args)
+    kept = runs / "n12-mindlin-r0.5-stick-held-nf10-s1.h5"
+    assert kept.exists() and "D_f" in first
+    # the pattern of the recorded run is read, not run again; the two hertz panels are run
+    # (and kept) because they are not there yet
+    out = _script("fracture_shear.py", *args, "--no-run", "--patterns", str(figure))
+    assert f"pattern from {kept}" in out and figure.exists()
+    assert sorted(p.name for p in runs.iterdir()) == [
+        "n12-hertz-kf0.02-nf10-s1.h5",
+        "n12-hertz-nf10-s1.h5",
+        kept.name,
+    ]
+
+
 def test_crack_tip_opening_finds_the_straight_ahead_opening_of_an_elastic_medium():
     # docs/paper.md, "Frictional contacts": the chain opens only the throat ahead of the tip,
     # a shear-stiff medium opens the crack's line further ahead, more on a larger lattice
