@@ -100,6 +100,11 @@ def describe(data, summary: dict, n: int) -> dict:
         "updates": summary.get("mechanical_updates", 0),
         "sliding": summary.get("largest_sliding_contacts", 0),
         "frozen": summary.get("frozen_contacts", 0),
+        # the largest force left out of balance on a particle, over the contacts' prestress
+        # force F_0 (runs with sliding carry the frozen contacts' imbalance; docs/model.md)
+        "residual": summary["largest_balance_residual"] / summary["prestress_force"]
+        if "prestress_force" in summary
+        else None,
     }
 
 

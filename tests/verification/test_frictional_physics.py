@@ -225,6 +225,8 @@ def test_run_file_holds_the_frictional_records(tmp_path):
     assert summary["shear_stiffness_ratio"] == 0.5 and summary["friction"] == 0.2
     assert summary["mechanics_solver"] == "multigrid" and summary["rotation"] == "held"
     assert summary["solver_iterations"] > 0
+    # F_0, the scale the carried imbalance is judged by (docs/run-file.md): Eq. 2's contact
+    assert summary["prestress_force"] == pytest.approx(_prestress_force(3.0), rel=1e-12)
 
 
 @pytest.mark.parametrize(

@@ -291,7 +291,7 @@ class HertzMindlinSolid(HertzSolid):
         out["shear_stiffness_ratio"] = self.stiffness_ratio
         if self.frictionless:
             return out
-        cfg = self.config
+        cfg, sc = self.config, self.context.scales
         out.update(
             friction=-1.0 if cfg.friction is None else float(cfg.friction),
             rotation=cfg.rotation,
@@ -306,6 +306,7 @@ class HertzMindlinSolid(HertzSolid):
             largest_sliding_contacts=self.largest_sliding,
             frozen_contacts=self.frozen_contacts,
             contacts_reformed_at_start=self.reformed_at_start,
+            prestress_force=self.prestress_force * sc.pressure * sc.area,
         )
         return out
 
