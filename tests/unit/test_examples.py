@@ -113,3 +113,17 @@ def test_crack_tip_opening_finds_the_straight_ahead_opening_of_an_elastic_medium
     for ratio in ("0.1", "0.8"):
         label = f"hertz-mindlin, K_t/K_n = {ratio}"
         assert 1 < rows[(label, 17)] < rows[(label, 25)]
+
+
+def test_carried_imbalance_comes_from_the_tolerances():
+    # docs/accuracy.md, "With sliding": solved tightly and every change of sliding mode solved
+    # again, the force left out of balance is the solver's round-off; a slip tolerance of 1e-2 a
+    # carries up to 4 K_t delta a particle (K_t delta = 0.075 F_0 at the prestress; x2 for
+    # contacts stiffened by compression)
+    out = _script("carried_imbalance.py", "--n", "12", "--ratio", "0.5", "--nf", "3",
+                  "--solver-tolerance", "1e-6", "--slip", "0", "1e-2")  # fmt: skip
+    rows = [dict(zip(line.split()[::2], line.split()[1::2], strict=True))
+            for line in out.splitlines() if line.startswith("solver")]  # fmt: skip
+    exact, slip = (float(r["largest"]) for r in rows)
+    assert exact < 1e-4 and 100 * exact < slip < 4 * 0.075 * 2
+    assert rows[0]["drained"] == rows[1]["drained"]
