@@ -14,7 +14,7 @@ number, over seeds, to breakthrough. Per point it reports the mean and standard 
 seeds of the mass-radius fractal dimension (as examples/scripts/fig5.py), the drained pores,
 the springs removed, the longest straight drained run and the mean length of the thin
 straight segments (channels one pore wide, at least 5 pores long: the fractures' straight
-segments). ``--patterns`` draws, for seed 1 at ``--pattern-nf``, the literal model
+segments). ``--patterns`` draws, for ``--pattern-seed`` at ``--pattern-nf``, the literal model
 (``hertz``), the weak foundation (``hertz``, k_f = 0.02 K_0, docs/paper.md) and every
 hertz-mindlin setting side by side. ``--runs DIR`` keeps every run's run file in DIR (named
 after its point, :func:`run_file`); ``--patterns`` then draws the runs found there instead of
@@ -128,7 +128,8 @@ def main() -> None:
                         "sessions or machines share); points without one are left out")  # fmt: skip
     parser.add_argument("--table", type=Path, help="markdown table")
     parser.add_argument("--out", type=Path, help="figure: D_f against N_f (PNG)")
-    parser.add_argument("--patterns", type=Path, help="figure: patterns, seed 1 (PNG)")
+    parser.add_argument("--patterns", type=Path, help="figure: patterns (PNG)")
+    parser.add_argument("--pattern-seed", type=int, default=1)
     parser.add_argument("--pattern-nf", type=float, default=10.0)
     parser.add_argument("--runs", type=Path,
                         help="keep every run's run file in this folder; --patterns draws the "
@@ -260,7 +261,8 @@ def draw(rows: list[dict], n: int, out: Path) -> None:
 
 
 def draw_patterns(args: argparse.Namespace, frictions: list[float | None]) -> None:
-    """Seed 1 at ``--pattern-nf``: literal model, weak foundation, every shear setting."""
+    """``--pattern-seed`` at ``--pattern-nf``: literal model, weak foundation, every shear
+    setting."""
     from matplotlib.figure import Figure
 
     from porenet.viz.pattern import plot_pattern, save_figure
@@ -277,21 +279,23 @@ def draw_patterns(args: argparse.Namespace, frictions: list[float | None]) -> No
         plot_pattern(data, ax=ax, title=f"{label}\nD_f = {shape(data, args.n)[0]:.2f}")
     for ax in axes[len(settings) :]:
         ax.set_axis_off()
-    fig.suptitle(f"n = {args.n}, N_f = {args.pattern_nf:g}, Ca* = 10, seed 1", fontsize=10)
+    fig.suptitle(f"n = {args.n}, N_f = {args.pattern_nf:g}, Ca* = 10, seed {args.pattern_seed}",
+                 fontsize=10)  # fmt: skip
     save_figure(fig, args.patterns)
 
 
 def kept_run(args: argparse.Namespace, setting: dict):
-    """Seed 1 of ``setting`` at ``--pattern-nf``: read from ``--runs`` if a finished run is
-    there (its run file is written whole, only after the run ends), run otherwise (and kept
-    there)."""
+    """``--pattern-seed`` of ``setting`` at ``--pattern-nf``: read from ``--runs`` if a
+    finished run is there (its run file is written whole, only after the run ends), run
+    otherwise (and kept there)."""
     from porenet import read_run
 
-    path = run_file(args.runs, args.n, setting, args.pattern_nf, 1) if args.runs else None
+    seed = args.pattern_seed
+    path = run_file(args.runs, args.n, setting, args.pattern_nf, seed) if args.runs else None
     if path is not None and path.exists():
         print(f"pattern from {path}", flush=True)
         return read_run(path)
-    return measure(args.n, dict(setting), args.pattern_nf, 1, keep=True, output=path)["data"]
+    return measure(args.n, dict(setting), args.pattern_nf, seed, keep=True, output=path)["data"]
 
 
 if __name__ == "__main__":
