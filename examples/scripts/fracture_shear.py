@@ -272,7 +272,7 @@ def draw_patterns(args: argparse.Namespace, frictions: list[float | None]) -> No
                  for r in args.ratio for f in frictions]  # fmt: skip
     cols = min(4, len(settings))
     n_rows = -(-len(settings) // cols)
-    fig = Figure(figsize=(3.4 * cols, 3.3 * n_rows), dpi=110, layout="constrained")
+    fig = Figure(figsize=(4.4 * cols, 3.8 * n_rows), dpi=110, layout="constrained")
     axes = fig.subplots(n_rows, cols, squeeze=False).ravel()
     for ax, (label, setting) in zip(axes, settings, strict=False):
         data = kept_run(args, setting)

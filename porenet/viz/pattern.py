@@ -61,11 +61,16 @@ def draw_trapped(data: RunData, ax: Axes, extent: tuple, legend: bool = True) ->
         return
     trapped[trapped == 0] = np.nan
     ax.imshow(trapped, cmap=ListedColormap([TRAPPED_GREY]), extent=extent, interpolation="nearest")
-    if legend:
+    if legend:  # below the x label (as wide as a small panel's axes), not over it
+        from matplotlib.transforms import offset_copy
+
+        labels = ax.xaxis.label.get_size() + max(t.get_size() for t in ax.get_xticklabels())
+        below = offset_copy(ax.transAxes, fig=ax.figure, y=-(1.5 * labels + 8), units="points")
         ax.legend(
             handles=[Patch(facecolor=TRAPPED_GREY, label="trapped defender")],
             loc="upper right",
-            bbox_to_anchor=(1.0, -0.1),
+            bbox_to_anchor=(1.0, 0.0),
+            bbox_transform=below,
             borderaxespad=0.0,
             handlelength=1.0,
         )
