@@ -256,3 +256,21 @@ def test_the_run_file_names_both_lengths(runs):
         coords = lat["pore_coords"][:]
     assert coords[:, 0].min() - a == pytest.approx(0.0, abs=1e-3 * a)
     assert coords[:, 0].max() + a == pytest.approx(extent)
+
+
+def test_trapped_legend_sits_below_the_x_label_in_a_narrow_panel(runs):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    data = read_run(runs["ip"])
+    data.trapped[: data.n_pores // 4] = True  # some defender trapped, whatever the run did
+    data.drained[: data.n_pores // 4] = False
+    fig = Figure(figsize=(12, 3.3), layout="constrained")
+    axes = fig.subplots(1, 4)  # a panel narrower than the x label
+    plot_pattern(data, ax=axes[1], title="narrow")
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)
+    label = axes[1].xaxis.label.get_window_extent(renderer)
+    legend = axes[1].get_legend()
+    assert legend.get_texts()[0].get_text() == "trapped defender"
+    assert legend.get_window_extent(renderer).y1 <= label.y0  # wholly below the label
