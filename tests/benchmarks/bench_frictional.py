@@ -6,6 +6,7 @@
     python tests/benchmarks/bench_frictional.py run --threads 1 2 --loads 0 1
     python tests/benchmarks/bench_frictional.py tolerance --values 1e-3 1e-2 --max-drained 150
     python tests/benchmarks/bench_frictional.py profile --max-drained 60
+    python tests/benchmarks/bench_frictional.py profile --set solid.friction=0.3
     python tests/benchmarks/bench_frictional.py sweep-cost    # Fig. 3 at n = 400 with it
 
 ``updates``: builds the 400 x 400 lattice (lambda = 0.1, N_f = 1, K_t / K_n = 0.5) and times
@@ -197,7 +198,7 @@ def tolerances(args: argparse.Namespace) -> None:
               f"{du:.2g} | {dh:.2g} |")  # fmt: skip
 
 
-def profile(max_drained: int, top: int) -> None:
+def profile(max_drained: int, top: int, sets: list[str]) -> None:
     import cProfile
     import pstats
 
@@ -206,7 +207,7 @@ def profile(max_drained: int, top: int) -> None:
 
     configure_threads(1)
     Simulation.from_scene(SCENE, ["lattice.n=40", "stop.max_drained=20"]).run()  # load kernels
-    sim = Simulation.from_scene(SCENE, [f"stop.max_drained={max_drained}"])
+    sim = Simulation.from_scene(SCENE, [f"stop.max_drained={max_drained}", *sets])
     profiler = cProfile.Profile()
     result = profiler.runcall(sim.run)
     summary = result.summary
@@ -259,13 +260,14 @@ def main() -> None:
     pr = sub.add_parser("profile")
     pr.add_argument("--max-drained", type=int, default=60)
     pr.add_argument("--top", type=int, default=16)
+    pr.add_argument("--set", action="append", default=[], help="KEY=VALUE for the scene")
     sub.add_parser("sweep-cost")
     args = parser.parse_args()
     if args.what == "sweep-cost":
         sweep_cost()
         return
     if args.what == "profile":
-        profile(args.max_drained, args.top)
+        profile(args.max_drained, args.top, args.set)
         return
     if args.what == "updates":
         updates(args.n, args.repeat)

@@ -54,6 +54,7 @@ from porenet.kernels.mechanics.multigrid_levels import (
     N,
     S,
     W,
+    cholesky_lower,
     compact_interpolation,
     dense_matrix,
     fine_stencil,
@@ -187,7 +188,9 @@ def build(operator: Operator) -> Hierarchy:
         line_factors(stencil, shape, offset, lvl, row_factor, column_factor, 3)
     last = len(shapes) - 1
     coarse = dense_matrix(stencil[:, int(offset[last]) :], *shapes[last])
-    factor = np.linalg.cholesky(coarse)
+    factor, definite = cholesky_lower(coarse)
+    if not definite:
+        raise np.linalg.LinAlgError("the coarsest level's matrix is not positive definite")
     compact = np.zeros((4, total))
     for lvl in range(len(shapes) - 1):
         compact_interpolation(shape, offset, lvl, frm, weight, compact)

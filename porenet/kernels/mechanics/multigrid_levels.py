@@ -38,6 +38,32 @@ def fine_stencil(operator: Any, out: np.ndarray) -> None:
             out[C, p] = west + east + south + north + d[r, c]
 
 
+@njit
+def cholesky_lower(matrix: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Lower Cholesky factor ``L`` of a symmetric matrix (``L L^T = matrix``) and whether the
+    matrix was positive definite (``False``: ``L`` is incomplete).
+
+    Written out rather than LAPACK's: the coarsest level is small (<= 15^2 = 225 rows), and
+    LAPACK's threads, which wait for a core when another program uses one, made each factor
+    take 29 ms instead of 0.1 ms on a busy machine (docs/performance.md, "Frictional solid")."""
+    n = matrix.shape[0]
+    low = np.zeros_like(matrix)
+    for j in range(n):
+        diag = matrix[j, j]
+        for k in range(j):
+            diag -= low[j, k] * low[j, k]
+        if not diag > 0.0:
+            return low, False
+        pivot = np.sqrt(diag)
+        low[j, j] = pivot
+        for i in range(j + 1, n):
+            value = matrix[i, j]
+            for k in range(j):
+                value -= low[i, k] * low[j, k]
+            low[i, j] = value / pivot
+    return low, True
+
+
 def dense_matrix(stencil: np.ndarray, rows: int, cols: int) -> np.ndarray:
     """The matrix of a (ringed) level's stencil on its interior points (small grids only)."""
     size, width = rows * cols, cols + 2

@@ -201,3 +201,27 @@ def test_drifted_edges_count_opened_contacts_not_sliding_ones():
     assert mg.drifted_edges(built, op, 0.5) == 7  # and stopped
     op.across_rows[6, 0:3] *= 1.2  # small changes: below the threshold
     assert mg.drifted_edges(op, built, 0.5) == 7
+
+
+@settings(max_examples=40, deadline=None)
+@given(size=st.integers(1, 40), seed=st.integers(0, 2**31 - 1), shift=st.floats(1e-6, 10.0))
+def test_cholesky_of_the_coarsest_level_equals_lapacks(size, seed, shift):
+    # the written-out factor (no LAPACK threads, docs/performance.md) against numpy's, on
+    # symmetric positive definite matrices from well to poorly conditioned
+    from porenet.kernels.mechanics.multigrid_levels import cholesky_lower
+
+    rng = np.random.default_rng(seed)
+    a = rng.standard_normal((size, size))
+    matrix = a @ a.T + shift * np.eye(size)
+    low, definite = cholesky_lower(matrix)
+    assert definite
+    reference = np.linalg.cholesky(matrix)
+    np.testing.assert_allclose(low, reference, rtol=1e-8, atol=1e-10 * np.abs(reference).max())
+    np.testing.assert_allclose(low @ low.T, matrix, rtol=1e-12, atol=1e-12 * np.abs(matrix).max())
+
+
+def test_cholesky_reports_a_matrix_that_is_not_positive_definite():
+    from porenet.kernels.mechanics.multigrid_levels import cholesky_lower
+
+    for diagonal in ([1.0, 2.0, -1.0], [1.0, 0.0, 3.0], [np.nan, 1.0, 1.0]):
+        assert not cholesky_lower(np.diag(diagonal))[1]
