@@ -64,7 +64,8 @@ def draw_trapped(data: RunData, ax: Axes, extent: tuple, legend: bool = True) ->
     if legend:  # below the x label (as wide as a small panel's axes), not over it
         from matplotlib.transforms import offset_copy
 
-        labels = ax.xaxis.label.get_size() + max(t.get_size() for t in ax.get_xticklabels())
+        label = ax.xaxis.label.get_size()
+        labels = label + max((t.get_size() for t in ax.get_xticklabels()), default=label)
         below = offset_copy(ax.transAxes, fig=ax.figure, y=-(1.5 * labels + 8), units="points")
         ax.legend(
             handles=[Patch(facecolor=TRAPPED_GREY, label="trapped defender")],
