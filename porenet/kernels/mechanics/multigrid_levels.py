@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from porenet.kernels.jit import njit
+from porenet.kernels.shared.dense import cholesky_columns
 
 #: Stencil slots (``3 (dy + 1) + (dx + 1)``; dy is the row offset, "south" is dy = -1).
 SW, S, SE, W, C, E, NW, N, NE = range(9)
@@ -41,27 +42,12 @@ def fine_stencil(operator: Any, out: np.ndarray) -> None:
 @njit
 def cholesky_lower(matrix: np.ndarray) -> tuple[np.ndarray, bool]:
     """Lower Cholesky factor ``L`` of a symmetric matrix (``L L^T = matrix``) and whether the
-    matrix was positive definite (``False``: ``L`` is incomplete).
-
-    Written out rather than LAPACK's: the coarsest level is small (<= 15^2 = 225 rows), and
-    LAPACK's threads, which wait for a core when another program uses one, made each factor
-    take 29 ms instead of 0.1 ms on a busy machine (docs/performance.md, "Frictional solid")."""
-    n = matrix.shape[0]
-    low = np.zeros_like(matrix)
-    for j in range(n):
-        diag = matrix[j, j]
-        for k in range(j):
-            diag -= low[j, k] * low[j, k]
-        if not diag > 0.0:
-            return low, False
-        pivot = np.sqrt(diag)
-        low[j, j] = pivot
-        for i in range(j + 1, n):
-            value = matrix[i, j]
-            for k in range(j):
-                value -= low[i, k] * low[j, k]
-            low[i, j] = value / pivot
-    return low, True
+    matrix was positive definite (``False``: ``L`` has NaN from the first bad pivot on); the
+    coarsest level's factor, written out rather than LAPACK's
+    (:mod:`porenet.kernels.shared.dense` says why)."""
+    low = np.tril(matrix)
+    definite = cholesky_columns(low, matrix.shape[0])
+    return low, definite
 
 
 def dense_matrix(stencil: np.ndarray, rows: int, cols: int) -> np.ndarray:

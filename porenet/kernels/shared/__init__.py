@@ -1,1 +1,2 @@
-"""Kernels every model uses: the pore graph, stable ranking, burst statistics."""
+"""Kernels every model uses: the pore graph, stable ranking, burst statistics, dense Cholesky
+columns."""

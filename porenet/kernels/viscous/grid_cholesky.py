@@ -17,6 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 from porenet.kernels.jit import njit
+from porenet.kernels.shared.dense import cholesky_columns
 
 
 class GridFronts(NamedTuple):
@@ -191,17 +192,7 @@ def grid_cholesky_factor(fronts: GridFronts, conductance: np.ndarray, throat: np
                         f[gx, gy] += upd[u0 + x * bc + y]
                     else:
                         f[gy, gx] += upd[u0 + x * bc + y]
-        for j in range(s):
-            d = f[j, j]
-            for t in range(j):
-                d -= f[j, t] * f[j, t]
-            d = np.sqrt(d)
-            f[j, j] = d
-            for i in range(j + 1, m):
-                v = f[i, j]
-                for t in range(j):
-                    v -= f[i, t] * f[j, t]
-                f[i, j] = v / d
+        cholesky_columns(f, s)  # K is positive definite: every pivot is
         if b > 0:
             lb = np.ascontiguousarray(f[s:, :s])
             prod = np.dot(lb, lb.T)
