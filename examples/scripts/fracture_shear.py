@@ -25,7 +25,10 @@ not repeated: an interrupted study resumes where it stopped. Several processes c
 study (one records file each, all of them given to the report); ``--no-run`` reports what
 the files hold without running the rest (each row names its seeds). Each record keeps the
 run's CPU time (the table's column) and how many contacts it froze (``frozen``,
-docs/run-file.md's ``frozen_contacts``).
+docs/run-file.md's ``frozen_contacts``). ``--status FILE`` runs nothing and writes which
+runs of the planned study (``--ratio`` x ``--friction`` x ``--nf`` x ``--seeds``) the records
+hold, which are missing, and the CPU time the missing ones should take (a study at n = 400
+takes several sessions; docs/fracture-shear-n400.md).
 """
 
 from __future__ import annotations
@@ -134,6 +137,10 @@ def main() -> None:
     parser.add_argument("--runs", type=Path,
                         help="keep every run's run file in this folder; --patterns draws the "
                         "ones found there instead of running them again")  # fmt: skip
+    parser.add_argument("--status", type=Path,
+                        help="run nothing: write to this file (markdown) which runs of the "
+                        "study that --ratio, --friction, --nf and --seeds plan are in "
+                        "--records, which are missing and their CPU time")  # fmt: skip
     args = parser.parse_args()
     try:
         frictions = [None if f == "none" else float(f) for f in args.friction]
@@ -153,6 +160,9 @@ def main() -> None:
         for line in records.read_text().splitlines():
             rec = {"rotation": "held", **json.loads(line)}
             done[tuple(rec[k] for k in POINT)] = rec
+    if args.status:
+        write_status(done, args, frictions)
+        return
     rows = []
     for ratio in args.ratio:
         for friction in frictions:
@@ -185,6 +195,62 @@ def main() -> None:
         print(f"figure: {args.patterns}")
 
 
+def write_status(done: dict, args: argparse.Namespace, frictions: list[float | None]) -> None:
+    """``--status``: the planned study's runs found in the records and those missing, each
+    missing one priced at the mean CPU time of the recorded runs at its point (its setting
+    and N_f), else at the same sliding and N_f with another K_t/K_n, else unknown."""
+
+    def cpu_at(**match: float | str | None) -> list[float]:
+        return [cpu_of(r) for key, r in done.items()
+                if key[0] == args.n and key[3] == args.rotation
+                and all(r[k] == v for k, v in match.items())]  # fmt: skip
+
+    lines = [
+        f"The study at n = {args.n} (rotations {args.rotation}): the runs that --ratio, "
+        "--friction, --nf and --seeds plan, those in the records and the CPU time of those "
+        "missing (`python examples/scripts/fracture_shear.py --status`; a missing run is "
+        "priced at its point's recorded mean, else at the same sliding and N_f with another "
+        "K_t/K_n; one thread a run).",
+        "",
+        "| K_t/K_n | sliding | N_f | seeds done | seeds missing | CPU done (s) | CPU missing "
+        "(s, estimate) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    spent = todo = 0.0
+    n_done = n_missing = unpriced = 0
+    for ratio in args.ratio:
+        for friction in frictions:
+            for nf in args.nf:
+                have, missing, here = [], [], 0.0
+                for seed in args.seeds:
+                    key = (args.n, ratio, friction, args.rotation, nf, seed)
+                    (have if key in done else missing).append(seed)
+                    here += cpu_of(done[key]) if key in done else 0.0
+                price = cpu_at(ratio=ratio, friction=friction, nf=nf) or cpu_at(
+                    friction=friction, nf=nf)  # fmt: skip
+                cost = statistics.fmean(price) * len(missing) if price and missing else 0.0
+                if missing and not price:
+                    unpriced += len(missing)
+                spent += here
+                todo += cost
+                n_done, n_missing = n_done + len(have), n_missing + len(missing)
+                estimate = ("unknown" if missing and not price
+                            else f"{cost:.0f}" if missing else "")  # fmt: skip
+                lines.append(
+                    f"| {ratio:g} | {friction_label(friction)} | {nf:g} | "
+                    f"{','.join(map(str, have)) or '-'} | {','.join(map(str, missing)) or '-'} "
+                    f"| {here:.0f} | {estimate} |"
+                )  # fmt: skip
+    summary = (
+        f"{n_done} of {n_done + n_missing} runs done ({spent / 3600:.1f} h of CPU); "
+        f"{n_missing} missing, ~{todo / 3600:.1f} h of CPU"
+        + (f" plus {unpriced} with no recorded run to price them by" if unpriced else "")
+    )
+    args.status.write_text("\n".join([*lines, "", summary]) + "\n")
+    print(summary)
+    print(f"status: {args.status}")
+
+
 def aggregate(runs: list[dict], **point: float | None) -> dict:
     """Mean and standard deviation over seeds of :data:`KEYS`, and the mean wall time."""
     row = dict(point)
@@ -193,11 +259,16 @@ def aggregate(runs: list[dict], **point: float | None) -> dict:
         row[key] = statistics.fmean(values)
         row[key + "_sd"] = statistics.pstdev(values) if len(values) > 1 else 0.0
     row["wall"] = statistics.fmean(r["wall"] for r in runs)
-    # CPU time where recorded (one thread: the wall time unless the run was paused or shared)
-    row["cpu"] = statistics.fmean(r.get("cpu", r["wall"]) for r in runs)
+    row["cpu"] = statistics.fmean(cpu_of(r) for r in runs)
     row["seeds"] = ",".join(str(r["seed"]) for r in runs)
     row["sliding"] = max(r["sliding"] for r in runs)
     return row
+
+
+def cpu_of(record: dict) -> float:
+    """A run's CPU time (s); its wall time in records made before CPU time was kept (one
+    thread: the same unless the run was paused or shared a core)."""
+    return record.get("cpu", record["wall"])
 
 
 def friction_label(friction: float | None) -> str:

@@ -8,6 +8,7 @@
     python tests/benchmarks/bench_frictional.py profile --max-drained 60
     python tests/benchmarks/bench_frictional.py profile --set solid.friction=0.3
     python tests/benchmarks/bench_frictional.py sweep-cost    # Fig. 3 at n = 400 with it
+    python tests/benchmarks/bench_frictional.py sparse-cost --n 50 100 200 400
 
 ``updates``: builds the 400 x 400 lattice (lambda = 0.1, N_f = 1, K_t / K_n = 0.5) and times
 ``HertzMindlinSolid.update`` from the prestressed state, as ``bench_mechanics.py`` does for
@@ -31,6 +32,11 @@ the drained order, the open contacts, the largest differences of displacement an
 ``profile``: the scene capped at ``--max-drained`` pores in this process on one thread under
 cProfile: each kernel's share of the time spent in the solid's updates (``tottime`` over
 ``mechanics_time_s``; docs/performance.md, "Frictional solid").
+
+``sparse-cost``: one factorisation and one solve of the stiffness matrix with free rotations
+(``solid.rotation = "free"``, which only the sparse direct solver handles) at the first
+update of the scene, at each ``--n``: what a run with free rotations costs at the paper's
+size (docs/accuracy.md, "With sliding").
 
 ``sweep-cost``: the cost model's estimate (``porenet.core.cost.estimate_cost``) summed over
 the points of ``examples/sweeps/fig3.toml`` with this scene as their base (docs/reproduction.md,
@@ -241,6 +247,52 @@ def sweep_cost() -> None:
           f"cost model (~{total / 7200:.1f} h on 2 workers)")
 
 
+def sparse_cost(ns: list[int]) -> None:
+    """One sparse direct solve of the system with free rotations at each size: the stiffness
+    matrix of the first update of the scene with ``solid.rotation = free``, factored by
+    SuperLU as ``porenet.kernels.mechanics.frictional_sparse.solve`` does it."""
+    import resource
+
+    from scipy.sparse.linalg import splu
+
+    from porenet.kernels.mechanics import frictional_sparse
+    from porenet.simulation import Simulation
+    from porenet.threads import configure_threads
+
+    configure_threads(1)
+
+    class Captured(Exception):
+        pass
+
+    def measure(pat, normal, shear, foundation, *_):
+        a = frictional_sparse.matrix(pat, normal, shear, foundation)
+        start = time.perf_counter()
+        lu = splu(a)
+        factor = time.perf_counter() - start
+        start = time.perf_counter()
+        lu.solve(np.ones(a.shape[0]))
+        solve = time.perf_counter() - start
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20  # KiB -> GiB
+        print(f"| {n} | {a.shape[0]} | {a.nnz} | {lu.L.nnz + lu.U.nnz} | {factor:.2f} | "
+              f"{1e3 * solve:.1f} | {peak:.2f} |", flush=True)  # fmt: skip
+        raise Captured
+
+    print("| n | unknowns | matrix entries | factor entries (L + U) | factor (s) | solve (ms) "
+          "| peak memory so far (GiB) |\n|---|---|---|---|---|---|---|")  # fmt: skip
+    original = frictional_sparse.solve
+    frictional_sparse.solve = measure
+    try:
+        for n in sorted(ns):
+            sets = [f"lattice.n={n}", "stop.max_drained=2", "solid.rotation=free",
+                    "solid.solver=sparse-direct"]  # fmt: skip
+            try:
+                Simulation.from_scene(SCENE, sets).run()
+            except Captured:
+                continue
+    finally:
+        frictional_sparse.solve = original
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="what", required=True)
@@ -262,7 +314,12 @@ def main() -> None:
     pr.add_argument("--top", type=int, default=16)
     pr.add_argument("--set", action="append", default=[], help="KEY=VALUE for the scene")
     sub.add_parser("sweep-cost")
+    sp = sub.add_parser("sparse-cost")
+    sp.add_argument("--n", type=int, nargs="+", default=[50, 100, 200])
     args = parser.parse_args()
+    if args.what == "sparse-cost":
+        sparse_cost(args.n)
+        return
     if args.what == "sweep-cost":
         sweep_cost()
         return

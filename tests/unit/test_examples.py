@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -81,6 +82,38 @@ def test_fracture_shear_script_runs_and_resumes(tmp_path):
     assert len(records.read_text().splitlines()) == 1
     assert again.splitlines()[0] == first.splitlines()[0]
     assert table.read_text().count("\n| 0.5 | no sliding | 10 |") == 1
+
+
+def test_fracture_shear_status_lists_the_missing_runs_and_prices_them(tmp_path):
+    # a study at n = 400 spans sessions: --status says what the records hold and what is left
+    point = {
+        "n": 400,
+        "ratio": 0.5,
+        "friction": None,
+        "rotation": "held",
+        "d_f": 1.0,
+        "drained": 700,
+        "removed": 790,
+        "straight": 398,
+        "segment": 190.0,
+        "sliding": 0,
+    }
+    records, status = tmp_path / "r.jsonl", tmp_path / "status.md"
+    lines = [
+        point | {"nf": 1.0, "seed": 1, "cpu": 300.0, "wall": 500.0},
+        point | {"nf": 1.0, "seed": 2, "wall": 100.0},  # made before CPU was recorded
+        point | {"ratio": 0.8, "nf": 3.0, "seed": 1, "cpu": 900.0, "wall": 950.0},
+    ]
+    records.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    out = _script("fracture_shear.py", "--n", "400", "--ratio", "0.5", "--friction", "none",
+                  "--nf", "1", "3", "10", "--seeds", "1", "2", "--records", str(records),
+                  "--status", str(status))  # fmt: skip
+    rows = status.read_text().splitlines()
+    assert "| 0.5 | no sliding | 1 | 1,2 | - | 400 |  |" in rows
+    assert "| 0.5 | no sliding | 3 | - | 1,2 | 0 | 1800 |" in rows  # priced at K_t/K_n = 0.8
+    assert "| 0.5 | no sliding | 10 | - | 1,2 | 0 | unknown |" in rows
+    assert out.startswith("2 of 6 runs done (0.1 h of CPU); 4 missing, ~0.5 h of CPU plus 2 ")
+    assert records.read_text().count("\n") == 3  # nothing ran
 
 
 def test_fracture_shear_keeps_run_files_and_draws_patterns_from_them(tmp_path):
