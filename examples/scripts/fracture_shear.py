@@ -21,7 +21,9 @@ after its point, :func:`run_file`); ``--patterns`` then draws the runs found the
 running them again (a study at n = 400 costs 5-40 min a run).
 
 Every run is appended to ``--records`` (JSON lines) as it ends, and runs already there are
-not repeated: an interrupted study resumes where it stopped. Several processes can share a
+not repeated: an interrupted study resumes where it stopped (a line that is not a record,
+half written by a killed process, is named with its file and line, and nothing runs until it
+is deleted). Several processes can share a
 study (one records file each, all of them given to the report); ``--no-run`` reports what
 the files hold without running the rest (each row names its seeds). Each record keeps the
 run's CPU time (the table's column) and how many contacts it froze (``frozen``,
@@ -157,9 +159,19 @@ def main() -> None:
     for records in args.records or ():
         if not records.exists():
             continue
-        for line in records.read_text().splitlines():
-            rec = {"rotation": "held", **json.loads(line)}
-            done[tuple(rec[k] for k in POINT)] = rec
+        for number, line in enumerate(records.read_text().splitlines(), 1):
+            if not line.strip():
+                continue
+            try:
+                rec = {"rotation": "held", **json.loads(line)}
+                done[tuple(rec[k] for k in POINT)] = rec
+            except (json.JSONDecodeError, TypeError, KeyError) as exc:
+                why = (exc.msg if isinstance(exc, json.JSONDecodeError)
+                       else f"no {exc.args[0]!r} field" if isinstance(exc, KeyError)
+                       else "not a JSON object")  # fmt: skip
+                parser.error(f"{records}, line {number}: not a run's record ({why}); a "
+                             "process killed while writing leaves such a line: delete it, "
+                             "and its run is made again")  # fmt: skip
     if args.status:
         write_status(done, args, frictions)
         return
@@ -178,8 +190,7 @@ def main() -> None:
                         rec = measure(args.n, setting, nf, seed, output=out)
                         done[key] = dict(zip(POINT, key, strict=True), **rec)
                         if args.records:
-                            with args.records[0].open("a") as f:
-                                f.write(json.dumps(done[key]) + "\n")
+                            append_record(args.records[0], done[key])
                     runs.append(done[key])
                 if not runs:
                     continue
@@ -193,6 +204,18 @@ def main() -> None:
     if args.patterns:
         draw_patterns(args, frictions)
         print(f"figure: {args.patterns}")
+
+
+def append_record(records: Path, record: dict) -> None:
+    """Append one run's record as a line of ``records``, on a line of its own even if the
+    file's last line lost its newline (an edited file)."""
+    ends = not records.exists() or records.stat().st_size == 0
+    if not ends:
+        with records.open("rb") as f:
+            f.seek(-1, 2)
+            ends = f.read(1) == b"\n"
+    with records.open("a") as f:
+        f.write(("" if ends else "\n") + json.dumps(record) + "\n")
 
 
 def write_status(done: dict, args: argparse.Namespace, frictions: list[float | None]) -> None:

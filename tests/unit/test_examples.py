@@ -82,6 +82,10 @@ def test_fracture_shear_script_runs_and_resumes(tmp_path):
     assert len(records.read_text().splitlines()) == 1
     assert again.splitlines()[0] == first.splitlines()[0]
     assert table.read_text().count("\n| 0.5 | no sliding | 10 |") == 1
+    # a new run's record goes on a line of its own even after an edit dropped the last newline
+    records.write_text(records.read_text().rstrip("\n"))
+    _script("fracture_shear.py", *args[:7], "10", "3", *args[8:])
+    assert [json.loads(line)["nf"] for line in records.read_text().splitlines()] == [10.0, 3.0]
 
 
 def test_fracture_shear_status_lists_the_missing_runs_and_prices_them(tmp_path):
@@ -114,6 +118,22 @@ def test_fracture_shear_status_lists_the_missing_runs_and_prices_them(tmp_path):
     assert "| 0.5 | no sliding | 10 | - | 1,2 | 0 | unknown |" in rows
     assert out.startswith("2 of 6 runs done (0.1 h of CPU); 4 missing, ~0.5 h of CPU plus 2 ")
     assert records.read_text().count("\n") == 3  # nothing ran
+
+
+def test_fracture_shear_names_a_broken_record_and_runs_nothing(tmp_path):
+    # a run killed while its record was written leaves half a line: the study must say where,
+    # not append the next record to it or raise a traceback
+    import subprocess
+    import sys
+
+    records, status = tmp_path / "r.jsonl", tmp_path / "status.md"
+    records.write_text('\n{"n": 400, "ratio": 0.5, "fric')
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    out = subprocess.run([sys.executable, str(script), "--records", str(records), "--status",
+                          str(status)], capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert f"{records}, line 2: not a run's record (Unterminated string" in out.stderr
+    assert not status.exists() and records.read_text().count("\n") == 1
 
 
 def test_fracture_shear_keeps_run_files_and_draws_patterns_from_them(tmp_path):
