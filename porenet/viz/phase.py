@@ -47,6 +47,7 @@ from porenet.viz.style import SEQUENTIAL, styled
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
+    from matplotlib.axis import Axis
     from matplotlib.figure import Figure
 
 #: Marker of each regime label (distinct shapes; "unclassified" for runs without a label).
@@ -74,6 +75,28 @@ def _log_limits(values: list[float], pad: float = 2.0) -> tuple[float, float]:
     return lo / pad, hi * pad
 
 
+#: A log axis spanning fewer decades than this gets short plain labels (matplotlib would label
+#: its minor ticks as "2 x 10^-1", "3 x 10^-1", ..., which overlap).
+SHORT_LABEL_DECADES = 1.5
+
+
+def _short_log_labels(axis: Axis, lo: float, hi: float) -> None:
+    """Plain labels ("0.3", "1", "2") on a log axis from ``lo`` to ``hi`` when it spans few
+    decades (a sweep over a narrow range, or one still running): every decade and its 2, 3
+    and 5 multiples."""
+    from matplotlib.ticker import FuncFormatter
+
+    if hi / lo >= 10.0**SHORT_LABEL_DECADES:
+        return
+
+    def label(value: float, _pos: int) -> str:
+        mantissa = value / 10.0 ** math.floor(math.log10(value) + 1e-9)
+        return f"{value:g}" if min(abs(mantissa - m) for m in (1, 2, 3, 5)) < 1e-6 else ""
+
+    axis.set_major_formatter(FuncFormatter(label))
+    axis.set_minor_formatter(FuncFormatter(label))
+
+
 def _draw_ca_lambda(ax: Axes, points: list[PhasePoint]) -> None:
     ys = [p.y for p in points if p.placed]
     y_lo, y_hi = _log_limits(ys) if ys else (1e-5, 1e-1)  # type: ignore[arg-type]
@@ -98,6 +121,7 @@ def _draw_ca_lambda(ax: Axes, points: list[PhasePoint]) -> None:
     ax.set_yscale("log")
     ax.set_xlim(0.0, 1.0)
     ax.set_ylim(y_lo, y_hi)
+    _short_log_labels(ax.yaxis, y_lo, y_hi)
     ax.set_xlabel(r"disorder $\lambda$ (-)")
     ax.set_ylabel("capillary number Ca (-)")
     text = {"color": "0.45", "fontsize": 10, "fontweight": "bold", "zorder": 1.5}
@@ -117,6 +141,8 @@ def _draw_nf_castar(ax: Axes, points: list[PhasePoint]) -> None:
     ax.set_yscale("log")
     ax.set_xlim(x_lo, x_hi)
     ax.set_ylim(y_lo, y_hi)
+    _short_log_labels(ax.xaxis, x_lo, x_hi)
+    _short_log_labels(ax.yaxis, y_lo, y_hi)
     ax.set_xlabel(r"modified capillary number Ca* = Ca $(L/a)\,/\,[\lambda/(1-\lambda^2)]$ (-)")
     ax.set_ylabel(r"fracturing number $N_f$ (-)")
     text = {"color": "0.45", "fontsize": 10, "fontweight": "bold", "zorder": 1.5}

@@ -6,6 +6,7 @@ exit codes and messages."""
 from __future__ import annotations
 
 import csv
+import itertools
 import json
 import math
 import subprocess
@@ -13,6 +14,7 @@ import sys
 
 import numpy as np
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 import porenet
 from porenet.analysis.numbers import modified_capillary_number
@@ -40,6 +42,10 @@ RESULT = [
     "run_file",
     "error",
 ]
+
+
+#: The swept columns of :func:`deformable_rows`.
+DEFORMABLE_PARAMS = ["ca_star", "fluid.capillary_number", "solid.fracturing_number"]
 
 
 def write_summary(folder, rows, params):
@@ -107,11 +113,7 @@ def rigid_dir(tmp_path):
 
 @pytest.fixture
 def deformable_dir(tmp_path):
-    return write_summary(
-        tmp_path / "deformable",
-        deformable_rows(),
-        ["ca_star", "fluid.capillary_number", "solid.fracturing_number"],
-    )
+    return write_summary(tmp_path / "deformable", deformable_rows(), DEFORMABLE_PARAMS)
 
 
 @pytest.fixture(scope="module")
@@ -179,6 +181,31 @@ def test_nf_castar_diagram_is_picked_from_the_columns(deformable_dir):
         (10.0, 0.01),
         (10.0, 10.0),
     ]
+
+
+def test_a_narrow_axis_gets_plain_labels_that_do_not_overlap(tmp_path):
+    # a sweep still running (or over a narrow range) spans about a decade: matplotlib labelled
+    # its minor ticks "2 x 10^-1", "3 x 10^-1", "4 x 10^-1", which overlapped
+    rows = [row for row in deformable_rows() if row["ca_star"] == 0.1]
+    for row in rows:
+        row["ca_star"] = 0.3
+    rows.append(rows[0] | {"ca_star": 1.0})
+    fig = plot_phase_diagram(write_summary(tmp_path / "narrow", rows, DEFORMABLE_PARAMS))
+    ax = fig.axes[0]
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)
+    lo, hi = ax.get_xlim()
+    ticks = [t for t in ax.xaxis.get_majorticklabels() + ax.xaxis.get_minorticklabels()
+             if t.get_visible() and t.get_text() and lo <= t.get_position()[0] <= hi]  # fmt: skip
+    assert sorted(float(t.get_text()) for t in ticks) == [0.2, 0.3, 0.5, 1.0, 2.0]
+    boxes = sorted((t.get_window_extent(renderer) for t in ticks), key=lambda b: b.x0)
+    assert all(a.x1 < b.x0 for a, b in itertools.pairwise(boxes))
+    # the full-size diagrams (several decades) keep matplotlib's decade labels
+    wide = plot_phase_diagram(
+        write_summary(tmp_path / "wide", deformable_rows(), DEFORMABLE_PARAMS)
+    )
+    wide.draw(FigureCanvasAgg(wide).get_renderer())
+    assert any("10^" in t.get_text() for t in wide.axes[0].xaxis.get_majorticklabels())
 
 
 def test_coordinates_missing_from_the_columns_come_from_the_run_files(run_files):
