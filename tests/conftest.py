@@ -3,10 +3,18 @@
 from __future__ import annotations
 
 import os
+import signal
 
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+# The Ctrl-C tests send SIGINT as a terminal does. A test run that a script started in the
+# background (`.ci/run &`, nohup) inherits SIGINT ignored, and so would every process it
+# starts: those tests would see no Ctrl-C at all (a run that finishes, exit 0 instead of 130).
+# Python's own handler is restored for the run; processes started from it get the default.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.fixture
