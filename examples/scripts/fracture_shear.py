@@ -36,10 +36,12 @@ takes several sessions; docs/fracture-shear-n400.md).
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import statistics
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -176,26 +178,24 @@ def main() -> None:
         write_status(done, args, frictions)
         return
     rows = []
-    for ratio in args.ratio:
-        for friction in frictions:
-            for nf in args.nf:
-                runs = []
-                for seed in args.seeds:
-                    key = (args.n, ratio, friction, args.rotation, nf, seed)
-                    if key not in done and args.no_run:
-                        continue
-                    if key not in done:
-                        setting = solid_of(ratio, friction, args.rotation)
-                        out = run_file(args.runs, args.n, setting, nf, seed) if args.runs else None
-                        rec = measure(args.n, setting, nf, seed, output=out)
-                        done[key] = dict(zip(POINT, key, strict=True), **rec)
-                        if args.records:
-                            append_record(args.records[0], done[key])
-                    runs.append(done[key])
-                if not runs:
-                    continue
-                rows.append(aggregate(runs, ratio=ratio, friction=friction, nf=nf))
-                print(line_of(rows[-1]), flush=True)
+    for ratio, friction, nf in planned(args, frictions):
+        runs = []
+        for seed in args.seeds:
+            key = point_key(args, ratio, friction, nf, seed)
+            if key not in done and args.no_run:
+                continue
+            if key not in done:
+                setting = solid_of(ratio, friction, args.rotation)
+                out = run_file(args.runs, args.n, setting, nf, seed) if args.runs else None
+                rec = measure(args.n, setting, nf, seed, output=out)
+                done[key] = dict(zip(POINT, key, strict=True), **rec)
+                if args.records:
+                    append_record(args.records[0], done[key])
+            runs.append(done[key])
+        if not runs:
+            continue
+        rows.append(aggregate(runs, ratio=ratio, friction=friction, nf=nf))
+        print(line_of(rows[-1]), flush=True)
     if args.table:
         write_table(rows, args)
     if args.out:
@@ -204,6 +204,17 @@ def main() -> None:
     if args.patterns:
         draw_patterns(args, frictions)
         print(f"figure: {args.patterns}")
+
+
+def planned(args: argparse.Namespace, frictions: list[float | None]) -> Iterator[tuple]:
+    """The study's points, (K_t/K_n, friction, N_f), in the order of its tables."""
+    return itertools.product(args.ratio, frictions, args.nf)
+
+
+def point_key(args: argparse.Namespace, ratio: float, friction: float | None, nf: float,
+              seed: int) -> tuple:  # fmt: skip
+    """A run's identity in the records (the fields of :data:`POINT`)."""
+    return (args.n, ratio, friction, args.rotation, nf, seed)
 
 
 def append_record(records: Path, record: dict) -> None:
@@ -224,9 +235,8 @@ def write_status(done: dict, args: argparse.Namespace, frictions: list[float | N
     and N_f), else at the same sliding and N_f with another K_t/K_n, else unknown."""
 
     def cpu_at(**match: float | str | None) -> list[float]:
-        return [cpu_of(r) for key, r in done.items()
-                if key[0] == args.n and key[3] == args.rotation
-                and all(r[k] == v for k, v in match.items())]  # fmt: skip
+        match |= {"n": args.n, "rotation": args.rotation}
+        return [cpu_of(r) for r in done.values() if all(r[k] == v for k, v in match.items())]
 
     lines = [
         f"The study at n = {args.n} (rotations {args.rotation}): the runs that --ratio, "
@@ -241,29 +251,25 @@ def write_status(done: dict, args: argparse.Namespace, frictions: list[float | N
     ]
     spent = todo = 0.0
     n_done = n_missing = unpriced = 0
-    for ratio in args.ratio:
-        for friction in frictions:
-            for nf in args.nf:
-                have, missing, here = [], [], 0.0
-                for seed in args.seeds:
-                    key = (args.n, ratio, friction, args.rotation, nf, seed)
-                    (have if key in done else missing).append(seed)
-                    here += cpu_of(done[key]) if key in done else 0.0
-                price = cpu_at(ratio=ratio, friction=friction, nf=nf) or cpu_at(
-                    friction=friction, nf=nf)  # fmt: skip
-                cost = statistics.fmean(price) * len(missing) if price and missing else 0.0
-                if missing and not price:
-                    unpriced += len(missing)
-                spent += here
-                todo += cost
-                n_done, n_missing = n_done + len(have), n_missing + len(missing)
-                estimate = ("unknown" if missing and not price
-                            else f"{cost:.0f}" if missing else "")  # fmt: skip
-                lines.append(
-                    f"| {ratio:g} | {friction_label(friction)} | {nf:g} | "
-                    f"{','.join(map(str, have)) or '-'} | {','.join(map(str, missing)) or '-'} "
-                    f"| {here:.0f} | {estimate} |"
-                )  # fmt: skip
+    for ratio, friction, nf in planned(args, frictions):
+        have, missing, here = [], [], 0.0
+        for seed in args.seeds:
+            key = point_key(args, ratio, friction, nf, seed)
+            (have if key in done else missing).append(seed)
+            here += cpu_of(done[key]) if key in done else 0.0
+        price = cpu_at(ratio=ratio, friction=friction, nf=nf) or cpu_at(friction=friction, nf=nf)
+        cost = statistics.fmean(price) * len(missing) if price and missing else 0.0
+        if missing and not price:
+            unpriced += len(missing)
+        spent += here
+        todo += cost
+        n_done, n_missing = n_done + len(have), n_missing + len(missing)
+        estimate = "unknown" if missing and not price else f"{cost:.0f}" if missing else ""
+        lines.append(
+            f"| {ratio:g} | {friction_label(friction)} | {nf:g} | "
+            f"{','.join(map(str, have)) or '-'} | {','.join(map(str, missing)) or '-'} "
+            f"| {here:.0f} | {estimate} |"
+        )
     summary = (
         f"{n_done} of {n_done + n_missing} runs done ({spent / 3600:.1f} h of CPU); "
         f"{n_missing} missing, ~{todo / 3600:.1f} h of CPU"
