@@ -5,6 +5,8 @@
     python tests/benchmarks/bench_frictional.py run --n 200 --set solid.friction=0.3
     python tests/benchmarks/bench_frictional.py run --threads 1 2 --loads 0 1
     python tests/benchmarks/bench_frictional.py tolerance --values 1e-3 1e-2 --max-drained 150
+    python tests/benchmarks/bench_frictional.py tolerance --set solid.friction=0.3 \
+        --variants solid.slip_tolerance=0,solid.solver_tolerance=1e-6 defaults
     python tests/benchmarks/bench_frictional.py profile --max-drained 60
     python tests/benchmarks/bench_frictional.py profile --set solid.friction=0.3
     python tests/benchmarks/bench_frictional.py sweep-cost    # Fig. 3 at n = 400 with it
@@ -27,7 +29,9 @@ here). Prints the wall time, the mechanical updates and the time the solid spent
 all at the same time, each on one thread (two values fill the two cores: side by side, under
 the same conditions). Prints each run's cost and how far it is from the first value's run:
 the drained order, the open contacts, the largest differences of displacement and aperture
-(in a) at the end (docs/accuracy.md, "Frictional solid").
+(in a) at the end (docs/accuracy.md, "Frictional solid"). ``--variants`` compares any
+settings instead (each ``defaults`` or ``KEY=VALUE,KEY=VALUE``, the first the reference), and
+``--set`` applies to every run (e.g. ``solid.friction=0.3``: "With sliding" there).
 
 ``profile``: the scene capped at ``--max-drained`` pores in this process on one thread under
 cProfile: each kernel's share of the time spent in the solid's updates (``tottime`` over
@@ -152,16 +156,32 @@ def runs(args: argparse.Namespace) -> None:
         Path(args.json).write_text(json.dumps([r[6] for r in rows], indent=1))
 
 
+def variant_sets(args: argparse.Namespace) -> list[tuple[str, list[str]]]:
+    """Each run's label and its ``--set`` options: ``--variants`` (``defaults`` or
+    ``KEY=VALUE,KEY=VALUE``) if given, else one run per ``--values`` solver tolerance."""
+    if not args.variants:
+        return [(str(v), [f"solid.solver_tolerance={v}"]) for v in args.values]
+    out = []
+    for text in args.variants:
+        pairs = [] if text == "defaults" else [kv for kv in text.split(",") if kv]
+        if any("=" not in kv for kv in pairs):
+            raise SystemExit(f"--variants: {text!r} is not 'defaults' or KEY=VALUE,KEY=VALUE")
+        out.append((text, pairs))
+    return out
+
+
 def tolerances(args: argparse.Namespace) -> None:
     import h5py
 
+    variants = variant_sets(args)
+    common = [item for kv in args.set for item in ("--set", kv)]
     with tempfile.TemporaryDirectory() as tmp:
         procs, outs = [], []
-        for value in args.values:
-            out = Path(tmp) / f"tol-{value}.h5"
+        for i, (_, pairs) in enumerate(variants):
+            out = Path(tmp) / f"run-{i}.h5"
             cmd = [sys.executable, "-m", "porenet", "run", str(SCENE), "-o", str(out), "-q",
                    "--threads", "1", "--set", f"stop.max_drained={args.max_drained}",
-                   "--set", f"solid.solver_tolerance={value}"]  # fmt: skip
+                   *common, *[item for kv in pairs for item in ("--set", kv)]]  # fmt: skip
             procs.append((subprocess.Popen(cmd), time.perf_counter()))
             outs.append(out)
         walls = [0.0] * len(procs)
@@ -182,23 +202,25 @@ def tolerances(args: argparse.Namespace) -> None:
                     "displacement": f["final/displacement"][()],
                     "apertures": f["final/apertures"][()],
                 })  # fmt: skip
-    print("| solver_tolerance (a) | wall (s) | mechanics (s) | updates | ms per update | "
-          "V-cycles | same drained order | same open contacts | largest displacement "
-          "difference (a) | largest aperture difference (a) |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    label = "settings" if args.variants else "solver_tolerance (a)"
+    print(f"| {label} | wall (s) | mechanics (s) | updates | ms per update | "
+          "V-cycles | builds | frozen | same drained order | same open contacts | largest "
+          "displacement difference (a) | largest aperture difference (a) |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     first = runs[0]
     import tomllib
 
     a = tomllib.loads(SCENE.read_text())["lattice"]["pore_size"]  # m
-    for value, wall, run in zip(args.values, walls, runs, strict=True):
+    for (name, _), wall, run in zip(variants, walls, runs, strict=True):
         s = run["summary"]
         per = 1e3 * s["mechanics_time_s"] / max(int(s["mechanical_updates"]), 1)
         same = len(run["order"]) == len(first["order"]) and bool(
             np.all(run["order"] == first["order"]))
         du = np.abs(run["displacement"] - first["displacement"]).max() / a
         dh = np.abs(run["apertures"] - first["apertures"]).max() / a
-        print(f"| {value} | {wall:.1f} | {s['mechanics_time_s']:.1f} | "
+        print(f"| {name} | {wall:.1f} | {s['mechanics_time_s']:.1f} | "
               f"{s['mechanical_updates']} | {per:.1f} | {s['solver_iterations']} | "
+              f"{s['multigrid_builds']} | {s.get('frozen_contacts', 0)} | "
               f"{'yes' if same else 'no'} | "
               f"{'yes' if np.array_equal(run['removed'], first['removed']) else 'no'} | "
               f"{du:.2g} | {dh:.2g} |")  # fmt: skip
@@ -309,6 +331,10 @@ def main() -> None:
     tl = sub.add_parser("tolerance")
     tl.add_argument("--values", nargs="+", type=float, default=[1e-3, 1e-2])
     tl.add_argument("--max-drained", type=int, default=150)
+    tl.add_argument("--variants", nargs="+", default=None,
+                    help="runs to compare, the first the reference: 'defaults' or "
+                         "KEY=VALUE,KEY=VALUE (replaces --values)")  # fmt: skip
+    tl.add_argument("--set", action="append", default=[], help="KEY=VALUE for every run")
     pr = sub.add_parser("profile")
     pr.add_argument("--max-drained", type=int, default=60)
     pr.add_argument("--top", type=int, default=16)
