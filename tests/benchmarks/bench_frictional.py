@@ -11,6 +11,7 @@
     python tests/benchmarks/bench_frictional.py profile --set solid.friction=0.3
     python tests/benchmarks/bench_frictional.py sweep-cost    # Fig. 3 at n = 400 with it
     python tests/benchmarks/bench_frictional.py sparse-cost --n 50 100 200 400
+    python tests/benchmarks/bench_frictional.py series RUN.h5 --windows 6
 
 ``updates``: builds the 400 x 400 lattice (lambda = 0.1, N_f = 1, K_t / K_n = 0.5) and times
 ``HertzMindlinSolid.update`` from the prestressed state, as ``bench_mechanics.py`` does for
@@ -31,7 +32,8 @@ the same conditions). Prints each run's cost and how far it is from the first va
 the drained order, the open contacts, the largest differences of displacement and aperture
 (in a) at the end (docs/accuracy.md, "Frictional solid"). ``--variants`` compares any
 settings instead (each ``defaults`` or ``KEY=VALUE,KEY=VALUE``, the first the reference), and
-``--set`` applies to every run (e.g. ``solid.friction=0.3``: "With sliding" there).
+``--set`` applies to every run (e.g. ``solid.friction=0.3``: "With sliding" there);
+``--keep DIR`` keeps the run files (``run-0.h5``, ... in the variants' order).
 
 ``profile``: the scene capped at ``--max-drained`` pores in this process on one thread under
 cProfile: each kernel's share of the time spent in the solid's updates (``tottime`` over
@@ -42,6 +44,10 @@ cProfile: each kernel's share of the time spent in the solid's updates (``tottim
 update of the scene, at each ``--n``: what a run with free rotations costs at the paper's
 size (docs/accuracy.md, "With sliding").
 
+``series``: where in a run (any run file of a hertz-mindlin solid) the solver's work went:
+its V-cycles, contacts sliding, drained pores and open contacts in stretches of equal numbers
+of updates (docs/performance.md, "Frictional solid").
+
 ``sweep-cost``: the cost model's estimate (``porenet.core.cost.estimate_cost``) summed over
 the points of ``examples/sweeps/fig3.toml`` with this scene as their base (docs/reproduction.md,
 "Fig. 3 with frictional contacts").
@@ -50,6 +56,7 @@ the points of ``examples/sweeps/fig3.toml`` with this scene as their base (docs/
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import statistics
 import subprocess
@@ -192,6 +199,12 @@ def tolerances(args: argparse.Namespace) -> None:
                         raise SystemExit(f"a run failed: {proc.args}")
                     walls[i] = time.perf_counter() - t0
             time.sleep(0.2)
+        if args.keep:  # the run files, for `series` (one per variant, in their order)
+            import shutil
+
+            Path(args.keep).mkdir(parents=True, exist_ok=True)
+            for out in outs:
+                shutil.copy(out, Path(args.keep) / out.name)
         runs = []
         for out in outs:
             with h5py.File(out) as f:
@@ -251,6 +264,37 @@ def profile(max_drained: int, top: int, sets: list[str]) -> None:
     for tottime, calls, (file, _, name) in rows:
         print(f"| {Path(file).stem}.{name} | {calls} | {tottime:.2f} | "
               f"{100 * tottime / mechanics:.1f} % |")
+
+
+def series(run_file: str, windows: int) -> None:
+    """Where in a run the solver's work went: the run file's per-update mechanics series
+    (``/mechanics``: V-cycles, sliding contacts, drained pores, open contacts) in
+    ``windows`` stretches of equal numbers of updates."""
+    import h5py
+
+    try:
+        with h5py.File(run_file, "r") as f:
+            keys = ("solver_iterations", "sliding_contacts", "drained", "removed_springs")
+            m = {k: f["mechanics"][k][()] for k in keys}
+    except (OSError, KeyError) as exc:
+        raise SystemExit(f"series: {run_file}: not a run file with a /mechanics series "
+                         f"of a hertz-mindlin solid ({exc})") from None  # fmt: skip
+    cycles = m["solver_iterations"]
+    n = len(cycles)
+    print(f"{run_file}: {n} updates, {int(cycles.sum())} V-cycles (both components)\n")
+    print("| updates | drained pores | open contacts | V-cycles | V-cycles an update (mean, "
+          "largest) | contacts sliding (fewest, most) |")  # fmt: skip
+    print("|---|---|---|---|---|---|")
+    edges = np.linspace(0, n, max(1, min(windows, n)) + 1).astype(int)
+    for a, b in itertools.pairwise(edges):
+        if b <= a:
+            continue
+        part = slice(a, b)
+        sl = m["sliding_contacts"][part]
+        print(f"| {a + 1}-{b} | {int(m['drained'][a])}-{int(m['drained'][b - 1])} | "
+              f"{int(m['removed_springs'][a])}-{int(m['removed_springs'][b - 1])} | "
+              f"{int(cycles[part].sum())} | {cycles[part].mean():.1f}, {int(cycles[part].max())} | "
+              f"{int(sl.min())}, {int(sl.max())} |")  # fmt: skip
 
 
 def sweep_cost() -> None:
@@ -335,16 +379,23 @@ def main() -> None:
                     help="runs to compare, the first the reference: 'defaults' or "
                          "KEY=VALUE,KEY=VALUE (replaces --values)")  # fmt: skip
     tl.add_argument("--set", action="append", default=[], help="KEY=VALUE for every run")
+    tl.add_argument("--keep", default=None, help="copy the run files (run-0.h5, ...) here")
     pr = sub.add_parser("profile")
     pr.add_argument("--max-drained", type=int, default=60)
     pr.add_argument("--top", type=int, default=16)
     pr.add_argument("--set", action="append", default=[], help="KEY=VALUE for the scene")
     sub.add_parser("sweep-cost")
+    se = sub.add_parser("series")
+    se.add_argument("run_file", help="a run file (.h5) of a hertz-mindlin run")
+    se.add_argument("--windows", type=int, default=6, help="stretches of equal updates")
     sp = sub.add_parser("sparse-cost")
     sp.add_argument("--n", type=int, nargs="+", default=[50, 100, 200])
     args = parser.parse_args()
     if args.what == "sparse-cost":
         sparse_cost(args.n)
+        return
+    if args.what == "series":
+        series(args.run_file, args.windows)
         return
     if args.what == "sweep-cost":
         sweep_cost()
