@@ -196,6 +196,8 @@ def tolerances(args: argparse.Namespace) -> None:
             for i, (proc, t0) in enumerate(procs):
                 if not walls[i] and proc.poll() is not None:
                     if proc.returncode != 0:
+                        for other, _ in procs:  # no orphans left running
+                            other.kill()
                         raise SystemExit(f"a run failed: {proc.args}")
                     walls[i] = time.perf_counter() - t0
             time.sleep(0.2)
