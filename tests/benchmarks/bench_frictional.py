@@ -109,6 +109,11 @@ def updates(n: int, repeat: int) -> None:
           f"{1e3 * statistics.median(pore_times):.1f} ms ({notes})")  # fmt: skip
 
 
+def set_flags(pairs: list[str]) -> list[str]:
+    """``porenet run``'s options for scene overrides: ``["--set", "K=V", "--set", ...]``."""
+    return [item for kv in pairs for item in ("--set", kv)]
+
+
 def one_run(args: list[str], threads: str) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "run.h5"
@@ -127,7 +132,7 @@ def one_run(args: list[str], threads: str) -> dict:
 
 
 def runs(args: argparse.Namespace) -> None:
-    extra = [item for kv in args.set for item in ("--set", kv)]
+    extra = set_flags(args.set)
     if args.n:
         extra += ["--set", f"lattice.n={args.n}"]
     rows = []
@@ -181,14 +186,13 @@ def tolerances(args: argparse.Namespace) -> None:
     import h5py
 
     variants = variant_sets(args)
-    common = [item for kv in args.set for item in ("--set", kv)]
     with tempfile.TemporaryDirectory() as tmp:
         procs, outs = [], []
         for i, (_, pairs) in enumerate(variants):
             out = Path(tmp) / f"run-{i}.h5"
             cmd = [sys.executable, "-m", "porenet", "run", str(SCENE), "-o", str(out), "-q",
                    "--threads", "1", "--set", f"stop.max_drained={args.max_drained}",
-                   *common, *[item for kv in pairs for item in ("--set", kv)]]  # fmt: skip
+                   *set_flags(args.set), *set_flags(pairs)]  # fmt: skip
             procs.append((subprocess.Popen(cmd), time.perf_counter()))
             outs.append(out)
         walls = [0.0] * len(procs)
