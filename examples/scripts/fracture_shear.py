@@ -30,7 +30,11 @@ run's CPU time (the table's column) and how many contacts it froze (``frozen``,
 docs/run-file.md's ``frozen_contacts``). ``--status FILE`` runs nothing and writes which
 runs of the planned study (``--ratio`` x ``--friction`` x ``--nf`` x ``--seeds``) the records
 hold, which are missing, and the CPU time the missing ones should take (a study at n = 400
-takes several sessions; docs/fracture-shear-n400.md).
+takes several sessions; docs/fracture-shear-n400.md). With ``--runs``, ``--checkpoint-every
+10m`` writes each run's checkpoint beside its run file (docs/run-file.md, "Checkpoints"), and
+a study restarted after its process was killed finishes that run from the checkpoint, with
+the uninterrupted run's result (the code and the scene must be the same; anything else is
+refused, naming the file) and the CPU time of every part (:class:`CpuCheckpoints`).
 """
 
 from __future__ import annotations
@@ -46,9 +50,20 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from fig5 import LAMBDA, run, shape
+from fig5 import LAMBDA, make_scene, shape
 
 from porenet.analysis.features import LONG_RUN, straight_runs
+from porenet.config.loading import load_scene
+from porenet.core.errors import ConfigError
+from porenet.io.atomic import atomic_output
+from porenet.io.checkpoint import (
+    CheckpointError,
+    CheckpointSchedule,
+    checkpoint_path,
+    read_header,
+    scene_digest,
+)
+from porenet.simulation import Simulation
 from porenet.threads import configure_threads
 
 KEYS = ("d_f", "drained", "removed", "straight", "segment")
@@ -80,17 +95,93 @@ def run_file(runs: Path, n: int, setting: dict, nf: float, seed: int) -> Path:
     return runs / f"n{n}-{name}-nf{nf:g}-s{seed}.h5"
 
 
+def cpu_file_of(checkpoint: Path) -> Path:
+    """Where :class:`CpuCheckpoints` keeps the CPU time of the run that wrote
+    ``checkpoint``."""
+    return checkpoint.with_name(checkpoint.name + ".cpu")
+
+
+class CpuCheckpoints(CheckpointSchedule):
+    """The run's checkpoints (``RUN.h5.checkpoint``, docs/run-file.md, "Checkpoints") and,
+    beside each, the CPU time the run used up to it (``RUN.h5.checkpoint.cpu``, JSON), so
+    that a run resumed by a later process records its whole CPU time.
+
+    The CPU file is written right after its checkpoint: a process killed between the two
+    leaves the previous count, so a resumed run's CPU time can be short by at most one
+    interval of ``--checkpoint-every``."""
+
+    def __init__(self, path: Path, every_seconds: float | None, cpu_before: float,
+                 started: float) -> None:  # fmt: skip
+        super().__init__(path, every_seconds=every_seconds)
+        #: CPU time (s) of the processes that ran the run before this one.
+        self.cpu_before = cpu_before
+        self._started = started  # this process's time.process_time() when it took the run up
+
+    @property
+    def cpu_file(self) -> Path:
+        return cpu_file_of(self.path)
+
+    def cpu(self) -> float:
+        """CPU time of the run so far (s), over every process that ran part of it."""
+        return self.cpu_before + time.process_time() - self._started
+
+    def write(self, simulation) -> Path:  # type: ignore[no-untyped-def]
+        path = super().write(simulation)
+        with atomic_output(self.cpu_file, what="CPU time record") as tmp:
+            tmp.write_text(json.dumps({"cpu_s": self.cpu(),
+                                       "n_drained": int(simulation.state.n_drained)}))  # fmt: skip
+        return path
+
+    def remove(self) -> None:
+        super().remove()
+        self.cpu_file.unlink(missing_ok=True)
+
+
+def start_or_resume(scene: dict, output: Path | None,
+                    every: str | None) -> tuple[Simulation, CpuCheckpoints | None]:  # fmt: skip
+    """The simulation of ``scene`` writing ``output``: resumed from the checkpoint a killed
+    process left beside ``output`` if there is one (refused, naming the file, if it was
+    written by other code or for another scene), else new; and its checkpoint schedule
+    (every ``every``, a duration such as ``10m``; None: none written)."""
+    started = time.process_time()
+    if output is None:
+        return Simulation.from_scene(scene), None
+    path = checkpoint_path(output)
+    seconds = None if every is None else CheckpointSchedule.parse(every, path).every_seconds
+    if not path.exists():
+        sim = Simulation.from_scene(scene, output=output)
+        return sim, CpuCheckpoints(path, seconds, 0.0, started)
+    try:
+        wanted = scene_digest(load_scene(scene).model_dump(mode="json"))
+        if read_header(path).scene_digest != wanted:
+            raise CheckpointError("it holds another scene than this run's")
+        sim = Simulation.resume(path)
+    except CheckpointError as exc:
+        print(f"{path}: cannot resume this run from it ({exc}); delete it (and "
+              f"{path.name}.cpu) to make the run afresh", file=sys.stderr)  # fmt: skip
+        raise SystemExit(2) from None
+    cpu_file = cpu_file_of(path)
+    cpu_before = json.loads(cpu_file.read_text())["cpu_s"] if cpu_file.exists() else 0.0
+    print(f"resuming {output.name} at {sim.state.n_drained} drained pores "
+          f"({cpu_before:.0f} s of CPU before)", flush=True)  # fmt: skip
+    return sim, CpuCheckpoints(path, seconds, cpu_before, started)
+
+
 def measure(n: int, setting: dict, nf: float, seed: int, keep: bool = False,
-            output: Path | None = None) -> dict:  # fmt: skip
+            output: Path | None = None, checkpoint_every: str | None = None) -> dict:  # fmt: skip
     """One run of Fig. 5's scene with the solid fields ``setting``: its shape and cost
     (the run's data under ``"data"`` if ``keep``; its run file written to ``output`` if
-    given)."""
+    given, and a checkpoint beside it every ``checkpoint_every``, from which a later call
+    resumes). ``wall`` is the run's wall time from its summary (building it included,
+    summed over resumed parts), ``cpu`` its CPU time (also summed)."""
+    scene = make_scene(n, nf, foundation=setting.pop("foundation", None), seed=seed,
+                       solid=setting)  # fmt: skip
     cpu = time.process_time()
-    wall, res = run(n, nf, output, foundation=setting.pop("foundation", None), seed=seed,
-                    solid=setting)  # fmt: skip
-    cpu = time.process_time() - cpu
-    return {**describe(res.data, res.summary, n), "wall": wall, "cpu": cpu,
-            **({"data": res.data} if keep else {})}  # fmt: skip
+    sim, schedule = start_or_resume(scene, output, checkpoint_every)
+    res = sim.run(schedule)
+    cpu = schedule.cpu() if schedule is not None else time.process_time() - cpu
+    return {**describe(res.data, res.summary, n), "wall": res.summary["wall_time_s"],
+            "cpu": cpu, **({"data": res.data} if keep else {})}  # fmt: skip
 
 
 def describe(data, summary: dict, n: int) -> dict:
@@ -141,6 +232,10 @@ def main() -> None:
     parser.add_argument("--runs", type=Path,
                         help="keep every run's run file in this folder; --patterns draws the "
                         "ones found there instead of running them again")  # fmt: skip
+    parser.add_argument("--checkpoint-every", metavar="DURATION",
+                        help="with --runs: write each run's checkpoint beside its run file "
+                        "this often (90s, 10m, 2h); a run whose checkpoint is there when the "
+                        "study is restarted goes on from it")  # fmt: skip
     parser.add_argument("--status", type=Path,
                         help="run nothing: write to this file (markdown) which runs of the "
                         "study that --ratio, --friction, --nf and --seeds plan are in "
@@ -154,6 +249,14 @@ def main() -> None:
         parser.error("--ratio and --nf must be > 0 and --n >= 8")
     if any(f is not None and f < 0 for f in frictions):
         parser.error("--friction must be >= 0 or 'none'")
+    if args.checkpoint_every is not None:
+        if args.runs is None:
+            parser.error("--checkpoint-every needs --runs (the checkpoints sit beside the "
+                         "run files)")  # fmt: skip
+        try:
+            CheckpointSchedule.parse(args.checkpoint_every, "-", "--checkpoint-every")
+        except ConfigError as exc:
+            parser.error(str(exc))
     if args.runs:
         args.runs.mkdir(parents=True, exist_ok=True)
     configure_threads(args.threads)
@@ -187,7 +290,8 @@ def main() -> None:
             if key not in done:
                 setting = solid_of(ratio, friction, args.rotation)
                 out = run_file(args.runs, args.n, setting, nf, seed) if args.runs else None
-                rec = measure(args.n, setting, nf, seed, output=out)
+                rec = measure(args.n, setting, nf, seed, output=out,
+                              checkpoint_every=args.checkpoint_every)  # fmt: skip
                 done[key] = dict(zip(POINT, key, strict=True), **rec)
                 if args.records:
                     append_record(args.records[0], done[key])
@@ -395,7 +499,8 @@ def kept_run(args: argparse.Namespace, setting: dict):
     if path is not None and path.exists():
         print(f"pattern from {path}", flush=True)
         return read_run(path)
-    return measure(args.n, dict(setting), args.pattern_nf, seed, keep=True, output=path)["data"]
+    return measure(args.n, dict(setting), args.pattern_nf, seed, keep=True, output=path,
+                   checkpoint_every=args.checkpoint_every)["data"]  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -154,6 +154,95 @@ def test_fracture_shear_keeps_run_files_and_draws_patterns_from_them(tmp_path):
     ]
 
 
+def _crashed_run(runs: Path, nf: float, point_nf: float) -> Path:
+    """The checkpoint a study process killed mid-run leaves for the point (n = 16, K_t/K_n =
+    0.5 with sliding, seed 1, N_f ``point_nf``), written by a run of Fig. 5's scene at
+    ``nf`` stopped after a third of its drained pores; returns the checkpoint's path."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    from fig5 import make_scene
+
+    from porenet.io.checkpoint import CheckpointSchedule, checkpoint_path
+    from porenet.simulation import Simulation
+
+    class Killed(Exception):
+        pass
+
+    class KilledAfterFirst(CheckpointSchedule):
+        def write(self, simulation):  # type: ignore[no-untyped-def]
+            super().write(simulation)
+            raise Killed
+
+    solid = {"kind": "hertz-mindlin", "shear_stiffness_ratio": 0.5, "rotation": "held",
+             "friction": 0.3}  # fmt: skip
+    scene = make_scene(16, nf, seed=1, solid=solid)
+    drained = Simulation.from_scene(scene).run().summary["n_drained"]
+    runs.mkdir()
+    output = runs / f"n16-mindlin-r0.5-mu0.3-held-nf{point_nf:g}-s1.h5"
+    path = checkpoint_path(output)
+    with pytest.raises(Killed):
+        Simulation.from_scene(scene, output=output).run(
+            KilledAfterFirst(path, every_drained=max(drained // 3, 1))
+        )
+    return path
+
+
+def test_fracture_shear_resumes_a_killed_run_from_its_checkpoint(tmp_path):
+    # a run at n = 400 takes hours: a study process killed mid-run (a session's end) leaves
+    # the run's checkpoint, and the restarted study finishes that run from it, with the
+    # uninterrupted run's result and the CPU time of both parts
+    runs = tmp_path / "runs"
+    path = _crashed_run(runs, 10.0, 10.0)
+    path.with_name(path.name + ".cpu").write_text(json.dumps({"cpu_s": 1000.0}))
+    point = ["--n", "16", "--ratio", "0.5", "--friction", "0.3", "--nf", "10", "--seeds", "1"]
+    out = _script("fracture_shear.py", *point, "--records", str(tmp_path / "resumed.jsonl"),
+                  "--runs", str(runs), "--checkpoint-every", "10m")  # fmt: skip
+    assert "resuming n16-mindlin-r0.5-mu0.3-held-nf10-s1.h5 at " in out
+    assert "(1000 s of CPU before)" in out
+    assert sorted(p.name for p in runs.iterdir()) == [path.name.removesuffix(".checkpoint")]
+    _script("fracture_shear.py", *point, "--records", str(tmp_path / "straight.jsonl"))
+    resumed, straight = (json.loads((tmp_path / name).read_text())
+                         for name in ("resumed.jsonl", "straight.jsonl"))  # fmt: skip
+    for key in ("d_f", "drained", "removed", "straight", "segment", "updates", "sliding",
+                "frozen", "residual"):  # fmt: skip
+        assert resumed[key] == straight[key], key
+    assert resumed["cpu"] > 1000.0 > straight["cpu"]
+
+
+def test_fracture_shear_refuses_a_checkpoint_of_another_scene(tmp_path):
+    # a checkpoint at a point's place that holds another scene (here N_f = 3 where N_f = 10
+    # belongs) is named and left alone, and nothing is recorded
+    import subprocess
+    import sys
+
+    runs, records = tmp_path / "runs", tmp_path / "r.jsonl"
+    path = _crashed_run(runs, 3.0, 10.0)
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--n", "16", "--ratio", "0.5", "--friction", "0.3",
+         "--nf", "10", "--seeds", "1", "--records", str(records), "--runs", str(runs)],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert f"{path}: cannot resume this run from it (it holds another scene" in out.stderr
+    assert path.exists() and not records.exists()
+
+
+def test_fracture_shear_checkpoints_need_run_files(tmp_path):
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    for extra, message in ((["--checkpoint-every", "10m"], "--checkpoint-every needs --runs"),
+                           (["--runs", str(tmp_path), "--checkpoint-every", "soon"],
+                            "--checkpoint-every 'soon': give a duration")):  # fmt: skip
+        out = subprocess.run([sys.executable, str(script), "--n", "16", *extra],
+                             capture_output=True, text=True, timeout=300)  # fmt: skip
+        assert out.returncode == 2 and "Traceback" not in out.stderr
+        assert message in out.stderr
+
+
 def test_crack_tip_opening_finds_the_straight_ahead_opening_of_an_elastic_medium():
     # docs/paper.md, "Frictional contacts": the chain opens only the throat ahead of the tip,
     # a shear-stiff medium opens the crack's line further ahead, more on a larger lattice
