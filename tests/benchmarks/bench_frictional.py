@@ -109,6 +109,19 @@ def updates(n: int, repeat: int) -> None:
           f"{1e3 * statistics.median(pore_times):.1f} ms ({notes})")  # fmt: skip
 
 
+def check_overrides(parser: argparse.ArgumentParser, *overrides: list[str]) -> None:
+    """Each list of scene overrides (``KEY=VALUE``) gives a valid scene, or the script stops
+    here with the scene's message (exit 2) before any run starts."""
+    from porenet.config.loading import load_scene
+    from porenet.core.errors import ConfigError
+
+    for pairs in overrides:
+        try:
+            load_scene(SCENE, pairs)
+        except ConfigError as exc:
+            parser.error(str(exc))
+
+
 def set_flags(pairs: list[str]) -> list[str]:
     """``porenet run``'s options for scene overrides: ``["--set", "K=V", "--set", ...]``."""
     return [item for kv in pairs for item in ("--set", kv)]
@@ -170,14 +183,15 @@ def runs(args: argparse.Namespace) -> None:
 
 def variant_sets(args: argparse.Namespace) -> list[tuple[str, list[str]]]:
     """Each run's label and its ``--set`` options: ``--variants`` (``defaults`` or
-    ``KEY=VALUE,KEY=VALUE``) if given, else one run per ``--values`` solver tolerance."""
+    ``KEY=VALUE,KEY=VALUE``) if given, else one run per ``--values`` solver tolerance;
+    ValueError for a variant that is neither."""
     if not args.variants:
         return [(str(v), [f"solid.solver_tolerance={v}"]) for v in args.values]
     out = []
     for text in args.variants:
         pairs = [] if text == "defaults" else [kv for kv in text.split(",") if kv]
         if any("=" not in kv for kv in pairs):
-            raise SystemExit(f"--variants: {text!r} is not 'defaults' or KEY=VALUE,KEY=VALUE")
+            raise ValueError(f"--variants: {text!r} is not 'defaults' or KEY=VALUE,KEY=VALUE")
         out.append((text, pairs))
     return out
 
@@ -234,7 +248,8 @@ def tolerances(args: argparse.Namespace) -> None:
         s = run["summary"]
         per = 1e3 * s["mechanics_time_s"] / max(int(s["mechanical_updates"]), 1)
         same = len(run["order"]) == len(first["order"]) and bool(
-            np.all(run["order"] == first["order"]))
+            np.all(run["order"] == first["order"])
+        )
         du = np.abs(run["displacement"] - first["displacement"]).max() / a
         dh = np.abs(run["apertures"] - first["apertures"]).max() / a
         print(f"| {name} | {wall:.1f} | {s['mechanics_time_s']:.1f} | "
@@ -268,8 +283,10 @@ def profile(max_drained: int, top: int, sets: list[str]) -> None:
     print("| function | calls | total (s) | share of the mechanics |")
     print("|---|---|---|---|")
     for tottime, calls, (file, _, name) in rows:
-        print(f"| {Path(file).stem}.{name} | {calls} | {tottime:.2f} | "
-              f"{100 * tottime / mechanics:.1f} % |")
+        print(
+            f"| {Path(file).stem}.{name} | {calls} | {tottime:.2f} | "
+            f"{100 * tottime / mechanics:.1f} % |"
+        )
 
 
 def series(run_file: str, windows: int) -> None:
@@ -315,8 +332,10 @@ def sweep_cost() -> None:
     data["base"] = str(SCENE)
     runs = expand(load_sweep(data, base_dir=sweeps))
     total = sum(estimate_cost(load_scene(run.scene)).wall_seconds for run in runs)
-    print(f"fig3.toml on {SCENE.name}: {len(runs)} runs, {total / 3600:.1f} h of runs by the "
-          f"cost model (~{total / 7200:.1f} h on 2 workers)")
+    print(
+        f"fig3.toml on {SCENE.name}: {len(runs)} runs, {total / 3600:.1f} h of runs by the "
+        f"cost model (~{total / 7200:.1f} h on 2 workers)"
+    )
 
 
 def sparse_cost(ns: list[int]) -> None:
@@ -407,13 +426,20 @@ def main() -> None:
         sweep_cost()
         return
     if args.what == "profile":
+        check_overrides(parser, args.set)
         profile(args.max_drained, args.top, args.set)
         return
     if args.what == "updates":
         updates(args.n, args.repeat)
     elif args.what == "tolerance":
+        try:
+            variants = variant_sets(args)
+        except ValueError as exc:
+            parser.error(str(exc))
+        check_overrides(parser, *(args.set + pairs for _, pairs in variants))
         tolerances(args)
     else:
+        check_overrides(parser, args.set)
         runs(args)
 
 
