@@ -12,6 +12,7 @@
     python tests/benchmarks/bench_frictional.py sweep-cost    # Fig. 3 at n = 400 with it
     python tests/benchmarks/bench_frictional.py sparse-cost --n 50 100 200 400
     python tests/benchmarks/bench_frictional.py series RUN.h5 --windows 6
+    python tests/benchmarks/bench_frictional.py compare REFERENCE.h5 RUN.h5
 
 ``updates``: builds the 400 x 400 lattice (lambda = 0.1, N_f = 1, K_t / K_n = 0.5) and times
 ``HertzMindlinSolid.update`` from the prestressed state, as ``bench_mechanics.py`` does for
@@ -47,6 +48,10 @@ size (docs/accuracy.md, "With sliding").
 ``series``: where in a run (any run file of a hertz-mindlin solid) the solver's work went:
 its V-cycles, contacts sliding, drained pores and open contacts in stretches of equal numbers
 of updates (docs/performance.md, "Frictional solid").
+
+``compare``: the ``tolerance`` table of run files made apart (the first the reference), for
+runs too long to make side by side in one sitting: for example a reference run by ``porenet
+run ... --checkpoint-every 10m`` over several sessions against a kept ``--keep`` run.
 
 ``sweep-cost``: the cost model's estimate (``porenet.core.cost.estimate_cost``) summed over
 the points of ``examples/sweeps/fig3.toml`` with this scene as their base (docs/reproduction.md,
@@ -197,8 +202,6 @@ def variant_sets(args: argparse.Namespace) -> list[tuple[str, list[str]]]:
 
 
 def tolerances(args: argparse.Namespace) -> None:
-    import h5py
-
     variants = variant_sets(args)
     with tempfile.TemporaryDirectory() as tmp:
         procs, outs = [], []
@@ -225,17 +228,28 @@ def tolerances(args: argparse.Namespace) -> None:
             Path(args.keep).mkdir(parents=True, exist_ok=True)
             for out in outs:
                 shutil.copy(out, Path(args.keep) / out.name)
-        runs = []
-        for out in outs:
-            with h5py.File(out) as f:
-                runs.append({
-                    "summary": dict(f["summary"].attrs),
-                    "order": f["invasion/order"][()],
-                    "removed": f["final/removed_springs"][()],
-                    "displacement": f["final/displacement"][()],
-                    "apertures": f["final/apertures"][()],
-                })  # fmt: skip
+        runs = [read_kept(out) for out in outs]
     label = "settings" if args.variants else "solver_tolerance (a)"
+    print_rows(label, [name for name, _ in variants], walls, runs)
+
+
+def read_kept(path: Path) -> dict:
+    """What the tolerance table reads of a run file: its summary, drained order, open
+    contacts, final displacements and apertures."""
+    import h5py
+
+    with h5py.File(path) as f:
+        return {
+            "summary": dict(f["summary"].attrs),
+            "order": f["invasion/order"][()],
+            "removed": f["final/removed_springs"][()],
+            "displacement": f["final/displacement"][()],
+            "apertures": f["final/apertures"][()],
+        }
+
+
+def print_rows(label: str, names: list[str], walls: list[float], runs: list[dict]) -> None:
+    """The tolerance table: each run's cost and how far it ends from the first run's."""
     print(f"| {label} | wall (s) | mechanics (s) | updates | ms per update | "
           "V-cycles | builds | frozen | same drained order | same open contacts | largest "
           "displacement difference (a) | largest aperture difference (a) |")  # fmt: skip
@@ -244,7 +258,7 @@ def tolerances(args: argparse.Namespace) -> None:
     import tomllib
 
     a = tomllib.loads(SCENE.read_text())["lattice"]["pore_size"]  # m
-    for (name, _), wall, run in zip(variants, walls, runs, strict=True):
+    for name, wall, run in zip(names, walls, runs, strict=True):
         s = run["summary"]
         per = 1e3 * s["mechanics_time_s"] / max(int(s["mechanical_updates"]), 1)
         same = len(run["order"]) == len(first["order"]) and bool(
@@ -258,6 +272,28 @@ def tolerances(args: argparse.Namespace) -> None:
               f"{'yes' if same else 'no'} | "
               f"{'yes' if np.array_equal(run['removed'], first['removed']) else 'no'} | "
               f"{du:.2g} | {dh:.2g} |")  # fmt: skip
+
+
+def compare(files: list[str]) -> None:
+    """``compare``: the tolerance table of run files made apart (the first the reference;
+    wall time from each file's summary, so a run resumed from checkpoints counts every
+    part)."""
+    paths = [Path(f) for f in files]
+    missing = [str(p) for p in paths if not p.is_file()]
+    if missing:
+        raise SystemExit(f"compare: no such run file: {', '.join(missing)}")
+    runs = []
+    for path in paths:
+        try:
+            runs.append(read_kept(path))
+        except (OSError, KeyError) as exc:
+            raise SystemExit(f"compare: {path} is not a finished run file of a solid with "
+                             f"displacements ({exc})") from None  # fmt: skip
+    sizes = {r["displacement"].shape for r in runs}
+    if len(sizes) > 1:
+        raise SystemExit(f"compare: the run files are of different lattices ({sorted(sizes)})")
+    walls = [float(r["summary"]["wall_time_s"]) for r in runs]
+    print_rows("run file", [p.name for p in paths], walls, runs)
 
 
 def profile(max_drained: int, top: int, sets: list[str]) -> None:
@@ -410,6 +446,8 @@ def main() -> None:
     pr.add_argument("--top", type=int, default=16)
     pr.add_argument("--set", action="append", default=[], help="KEY=VALUE for the scene")
     sub.add_parser("sweep-cost")
+    cp = sub.add_parser("compare")
+    cp.add_argument("run_files", nargs="+", help="run files (.h5), the first the reference")
     se = sub.add_parser("series")
     se.add_argument("run_file", help="a run file (.h5) of a hertz-mindlin run")
     se.add_argument("--windows", type=int, default=6, help="stretches of equal updates")
@@ -421,6 +459,9 @@ def main() -> None:
         return
     if args.what == "series":
         series(args.run_file, args.windows)
+        return
+    if args.what == "compare":
+        compare(args.run_files)
         return
     if args.what == "sweep-cost":
         sweep_cost()

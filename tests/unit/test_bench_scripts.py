@@ -26,3 +26,25 @@ def test_bench_frictional_refuses_a_bad_override_before_running(args, message):
                          timeout=120)  # fmt: skip
     assert out.returncode == 2 and "Traceback" not in out.stderr, out.stderr
     assert message in out.stderr and out.stdout == ""
+
+
+def test_bench_frictional_compares_run_files_made_apart(tmp_path):
+    # `compare` gives the tolerance table of kept run files, the first the reference
+    from porenet.simulation import Simulation
+
+    scene = BENCH.parents[2] / "examples" / "scenes" / "fig5-mindlin.toml"
+    files = []
+    for tolerance in ("1e-4", "1e-2"):
+        out = tmp_path / f"tol{tolerance}.h5"
+        Simulation.from_scene(scene, ["lattice.n=16", f"solid.solver_tolerance={tolerance}"],
+                              output=out).run()  # fmt: skip
+        files.append(str(out))
+    out = subprocess.run([sys.executable, str(BENCH), "compare", *files], capture_output=True,
+                         text=True, timeout=120)  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    rows = [line for line in out.stdout.splitlines() if line.startswith("| tol")]
+    assert len(rows) == 2 and rows[0].endswith("| yes | yes | 0 | 0 |")
+    bad = subprocess.run([sys.executable, str(BENCH), "compare", files[0], str(tmp_path / "x.h5")],
+                         capture_output=True, text=True, timeout=120)  # fmt: skip
+    assert bad.returncode == 1 and "Traceback" not in bad.stderr
+    assert f"compare: no such run file: {tmp_path / 'x.h5'}" in bad.stderr
