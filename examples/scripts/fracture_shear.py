@@ -110,9 +110,8 @@ class CpuCheckpoints(CheckpointSchedule):
     leaves the previous count, so a resumed run's CPU time can be short by at most one
     interval of ``--checkpoint-every``."""
 
-    def __init__(self, path: Path, every_seconds: float | None, cpu_before: float,
-                 started: float) -> None:  # fmt: skip
-        super().__init__(path, every_seconds=every_seconds)
+    def __init__(self, every: CheckpointSchedule, cpu_before: float, started: float) -> None:
+        super().__init__(every.path, every.every_seconds, every.every_drained)
         #: CPU time (s) of the processes that ran the run before this one.
         self.cpu_before = cpu_before
         self._started = started  # this process's time.process_time() when it took the run up
@@ -142,15 +141,16 @@ def start_or_resume(scene: dict, output: Path | None,
     """The simulation of ``scene`` writing ``output``: resumed from the checkpoint a killed
     process left beside ``output`` if there is one (refused, naming the file, if it was
     written by other code or for another scene), else new; and its checkpoint schedule
-    (every ``every``, a duration such as ``10m``; None: none written)."""
+    (every ``every``: a duration such as ``10m`` or a number of drained pores, as
+    ``porenet run --checkpoint-every``; None: none written)."""
     started = time.process_time()
     if output is None:
         return Simulation.from_scene(scene), None
     path = checkpoint_path(output)
-    seconds = None if every is None else CheckpointSchedule.parse(every, path).every_seconds
+    schedule = CheckpointSchedule(path) if every is None else CheckpointSchedule.parse(every, path)
     if not path.exists():
         sim = Simulation.from_scene(scene, output=output)
-        return sim, CpuCheckpoints(path, seconds, 0.0, started)
+        return sim, CpuCheckpoints(schedule, 0.0, started)
     try:
         wanted = scene_digest(load_scene(scene).model_dump(mode="json"))
         if read_header(path).scene_digest != wanted:
@@ -158,13 +158,13 @@ def start_or_resume(scene: dict, output: Path | None,
         sim = Simulation.resume(path)
     except CheckpointError as exc:
         print(f"{path}: cannot resume this run from it ({exc}); delete it (and "
-              f"{path.name}.cpu) to make the run afresh", file=sys.stderr)  # fmt: skip
+              f"{cpu_file_of(path).name}) to make the run afresh", file=sys.stderr)  # fmt: skip
         raise SystemExit(2) from None
     cpu_file = cpu_file_of(path)
     cpu_before = json.loads(cpu_file.read_text())["cpu_s"] if cpu_file.exists() else 0.0
     print(f"resuming {output.name} at {sim.state.n_drained} drained pores "
           f"({cpu_before:.0f} s of CPU before)", flush=True)  # fmt: skip
-    return sim, CpuCheckpoints(path, seconds, cpu_before, started)
+    return sim, CpuCheckpoints(schedule, cpu_before, started)
 
 
 def measure(n: int, setting: dict, nf: float, seed: int, keep: bool = False,
@@ -232,10 +232,11 @@ def main() -> None:
     parser.add_argument("--runs", type=Path,
                         help="keep every run's run file in this folder; --patterns draws the "
                         "ones found there instead of running them again")  # fmt: skip
-    parser.add_argument("--checkpoint-every", metavar="DURATION",
+    parser.add_argument("--checkpoint-every", metavar="WHEN",
                         help="with --runs: write each run's checkpoint beside its run file "
-                        "this often (90s, 10m, 2h); a run whose checkpoint is there when the "
-                        "study is restarted goes on from it")  # fmt: skip
+                        "this often (90s, 10m, 2h, or a number of drained pores); a run "
+                        "whose checkpoint is there when the study is restarted goes on from "
+                        "it")  # fmt: skip
     parser.add_argument("--status", type=Path,
                         help="run nothing: write to this file (markdown) which runs of the "
                         "study that --ratio, --friction, --nf and --seeds plan are in "

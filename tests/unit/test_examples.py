@@ -197,7 +197,7 @@ def test_fracture_shear_resumes_a_killed_run_from_its_checkpoint(tmp_path):
     path.with_name(path.name + ".cpu").write_text(json.dumps({"cpu_s": 1000.0}))
     point = ["--n", "16", "--ratio", "0.5", "--friction", "0.3", "--nf", "10", "--seeds", "1"]
     out = _script("fracture_shear.py", *point, "--records", str(tmp_path / "resumed.jsonl"),
-                  "--runs", str(runs), "--checkpoint-every", "10m")  # fmt: skip
+                  "--runs", str(runs), "--checkpoint-every", "1")  # fmt: skip
     assert "resuming n16-mindlin-r0.5-mu0.3-held-nf10-s1.h5 at " in out
     assert "(1000 s of CPU before)" in out
     assert sorted(p.name for p in runs.iterdir()) == [path.name.removesuffix(".checkpoint")]
