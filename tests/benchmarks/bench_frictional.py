@@ -13,6 +13,7 @@
     python tests/benchmarks/bench_frictional.py sparse-cost --n 50 100 200 400
     python tests/benchmarks/bench_frictional.py series RUN.h5 --windows 6
     python tests/benchmarks/bench_frictional.py compare REFERENCE.h5 RUN.h5
+    python tests/benchmarks/bench_frictional.py anatomy --set lattice.n=200 --max-drained 40
 
 ``updates``: builds the 400 x 400 lattice (lambda = 0.1, N_f = 1, K_t / K_n = 0.5) and times
 ``HertzMindlinSolid.update`` from the prestressed state, as ``bench_mechanics.py`` does for
@@ -52,6 +53,11 @@ of updates (docs/performance.md, "Frictional solid").
 ``compare``: the ``tolerance`` table of run files made apart (the first the reference), for
 runs too long to make side by side in one sitting: for example a reference run by ``porenet
 run ... --checkpoint-every 10m`` over several sessions against a kept ``--keep`` run.
+
+``anatomy``: the solver's work of the scene capped at ``--max-drained`` pores, without and
+with sliding (``--variants``), split into linear solves an update (the contact iteration's)
+and V-cycles a solve, once with the multigrid hierarchies kept across solves (the default)
+and once rebuilt before every solve (docs/performance.md, "Frictional solid").
 
 ``sweep-cost``: the cost model's estimate (``porenet.core.cost.estimate_cost``) summed over
 the points of ``examples/sweeps/fig3.toml`` with this scene as their base (docs/reproduction.md,
@@ -296,6 +302,50 @@ def compare(files: list[str]) -> None:
     print_rows("run file", [p.name for p in paths], walls, runs)
 
 
+def anatomy(max_drained: int, sets: list[str], variants: list[str]) -> None:
+    """``anatomy``: the solver's work split into solves an update and V-cycles a solve, for
+    each variant of the scene (``defaults``, or ``KEY=VALUE,...`` added to ``--set``) and, with
+    ``fresh``, the same with every multigrid hierarchy rebuilt before every solve (what a
+    preconditioner that always matched the operator would save in V-cycles, and cost in
+    builds). One thread, in this process, one variant after another."""
+    from porenet.builtin.solids import grid_solver
+    from porenet.simulation import Simulation
+    from porenet.threads import configure_threads
+
+    configure_threads(1)
+    Simulation.from_scene(SCENE, ["lattice.n=40", "stop.max_drained=20"]).run()  # load kernels
+    solves = [0]
+    original_solve, original_edges = grid_solver.GridSolver.solve, grid_solver.REBUILD_EDGES
+
+    def counted(self, *args):  # type: ignore[no-untyped-def]
+        solves[0] += 1
+        return original_solve(self, *args)
+
+    print("| variant | hierarchies | mechanics (s) | updates | solves | solves an update | "
+          "V-cycles (both components) | V-cycles a solve | builds | drained | open "
+          "contacts |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    grid_solver.GridSolver.solve = counted
+    try:
+        for text in variants:
+            for fresh in (False, True):
+                grid_solver.REBUILD_EDGES = -1 if fresh else original_edges
+                pairs = [] if text == "defaults" else text.split(",")
+                solves[0] = 0
+                sim = Simulation.from_scene(SCENE, [f"stop.max_drained={max_drained}", *sets,
+                                                    *pairs])  # fmt: skip
+                s = sim.run().summary
+                updates, v = int(s["mechanical_updates"]), int(s["solver_iterations"])
+                print(f"| {text} | {'rebuilt every solve' if fresh else 'kept (default)'} | "
+                      f"{s['mechanics_time_s']:.1f} | {updates} | {solves[0]} | "
+                      f"{solves[0] / max(updates, 1):.2f} | {v} | {v / max(solves[0], 1):.1f} | "
+                      f"{s['multigrid_builds']} | {s['n_drained']} | {s['springs_removed']} |",
+                      flush=True)  # fmt: skip
+    finally:
+        grid_solver.GridSolver.solve = original_solve
+        grid_solver.REBUILD_EDGES = original_edges
+
+
 def profile(max_drained: int, top: int, sets: list[str]) -> None:
     import cProfile
     import pstats
@@ -445,6 +495,11 @@ def main() -> None:
     pr.add_argument("--max-drained", type=int, default=60)
     pr.add_argument("--top", type=int, default=16)
     pr.add_argument("--set", action="append", default=[], help="KEY=VALUE for the scene")
+    an = sub.add_parser("anatomy")
+    an.add_argument("--max-drained", type=int, default=40)
+    an.add_argument("--set", action="append", default=[], help="KEY=VALUE for every run")
+    an.add_argument("--variants", nargs="+", default=["defaults", "solid.friction=0.3"],
+                    help="'defaults' or KEY=VALUE,KEY=VALUE")  # fmt: skip
     sub.add_parser("sweep-cost")
     cp = sub.add_parser("compare")
     cp.add_argument("run_files", nargs="+", help="run files (.h5), the first the reference")
@@ -459,6 +514,11 @@ def main() -> None:
         return
     if args.what == "series":
         series(args.run_file, args.windows)
+        return
+    if args.what == "anatomy":
+        check_overrides(parser, *(args.set + ([] if v == "defaults" else v.split(","))
+                                  for v in args.variants))  # fmt: skip
+        anatomy(args.max_drained, args.set, args.variants)
         return
     if args.what == "compare":
         compare(args.run_files)

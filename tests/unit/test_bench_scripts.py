@@ -48,3 +48,25 @@ def test_bench_frictional_compares_run_files_made_apart(tmp_path):
                          capture_output=True, text=True, timeout=120)  # fmt: skip
     assert bad.returncode == 1 and "Traceback" not in bad.stderr
     assert f"compare: no such run file: {tmp_path / 'x.h5'}" in bad.stderr
+
+
+def test_bench_frictional_anatomy_splits_the_solver_work():
+    # solves an update and V-cycles a solve, with the hierarchies kept and rebuilt before
+    # every solve (two components: two builds a solve at least)
+    out = subprocess.run([sys.executable, str(BENCH), "anatomy", "--set", "lattice.n=16",
+                          "--max-drained", "5"], capture_output=True, text=True,
+                         timeout=300)  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    rows = [line.split(" | ") for line in out.stdout.splitlines()
+            if "| kept" in line or "| rebuilt" in line]  # fmt: skip
+    assert [(r[0], r[1]) for r in rows] == [
+        ("| defaults", "kept (default)"),
+        ("| defaults", "rebuilt every solve"),
+        ("| solid.friction=0.3", "kept (default)"),
+        ("| solid.friction=0.3", "rebuilt every solve"),
+    ]
+    for row in rows:
+        updates, solves, builds = int(row[3]), int(row[4]), int(row[8])
+        assert solves >= updates > 0
+        if row[1] == "rebuilt every solve":
+            assert builds >= 2 * solves
