@@ -68,16 +68,20 @@ from porenet.threads import configure_threads
 
 KEYS = ("d_f", "drained", "removed", "straight", "segment")
 #: What identifies a run in the records.
-POINT = ("n", "ratio", "friction", "rotation", "nf", "seed")
+POINT = ("n", "ratio", "friction", "rotation", "solver_tolerance", "nf", "seed")
 
 
-def solid_of(ratio: float | None, friction: float | None, rotation: str = "held") -> dict:
-    """The ``[solid]`` fields of one setting (``ratio`` None: the literal ``hertz``)."""
+def solid_of(ratio: float | None, friction: float | None, rotation: str = "held",
+             solver_tolerance: float | None = None) -> dict:  # fmt: skip
+    """The ``[solid]`` fields of one setting (``ratio`` None: the literal ``hertz``;
+    ``solver_tolerance`` None: the solid's default)."""
     if ratio is None:
         return {}
     fields = {"kind": "hertz-mindlin", "shear_stiffness_ratio": ratio, "rotation": rotation}
     if friction is not None:
         fields["friction"] = friction
+    if solver_tolerance is not None:
+        fields["solver_tolerance"] = solver_tolerance
     return fields
 
 
@@ -92,6 +96,8 @@ def run_file(runs: Path, n: int, setting: dict, nf: float, seed: int) -> Path:
         friction = setting.get("friction")
         sliding = "stick" if friction is None else f"mu{friction:g}"
         name = f"mindlin-r{setting['shear_stiffness_ratio']:g}-{sliding}-{setting['rotation']}"
+        if "solver_tolerance" in setting:
+            name += f"-tol{setting['solver_tolerance']:g}"
     return runs / f"n{n}-{name}-nf{nf:g}-s{seed}.h5"
 
 
@@ -215,6 +221,10 @@ def main() -> None:
                         help="Coulomb coefficients; 'none': no sliding")  # fmt: skip
     parser.add_argument("--rotation", choices=["held", "free"], default="held",
                         help="particle rotations (solid.rotation)")  # fmt: skip
+    parser.add_argument("--solver-tolerance", type=float, default=None,
+                        help="solid.solver_tolerance (a) of every hertz-mindlin run "
+                        "(default: the solid's, 1e-2); part of each run's identity in the "
+                        "records")  # fmt: skip
     parser.add_argument("--nf", type=float, nargs="+", default=[0.1, 0.3, 1.0, 3.0, 10.0, 30.0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     parser.add_argument("--threads", type=int, default=1, help="threads per run (default 1)")
@@ -248,6 +258,8 @@ def main() -> None:
         parser.error(f"--friction takes numbers or 'none', got {args.friction}")
     if any(r <= 0 for r in args.ratio) or any(v <= 0 for v in args.nf) or args.n < 8:
         parser.error("--ratio and --nf must be > 0 and --n >= 8")
+    if args.solver_tolerance is not None and not args.solver_tolerance > 0:
+        parser.error("--solver-tolerance must be > 0")
     if any(f is not None and f < 0 for f in frictions):
         parser.error("--friction must be >= 0 or 'none'")
     if args.checkpoint_every is not None:
@@ -269,7 +281,7 @@ def main() -> None:
             if not line.strip():
                 continue
             try:
-                rec = {"rotation": "held", **json.loads(line)}
+                rec = {"rotation": "held", "solver_tolerance": None, **json.loads(line)}
                 done[tuple(rec[k] for k in POINT)] = rec
             except (json.JSONDecodeError, TypeError, KeyError) as exc:
                 why = (exc.msg if isinstance(exc, json.JSONDecodeError)
@@ -289,7 +301,7 @@ def main() -> None:
             if key not in done and args.no_run:
                 continue
             if key not in done:
-                setting = solid_of(ratio, friction, args.rotation)
+                setting = solid_of(ratio, friction, args.rotation, args.solver_tolerance)
                 out = run_file(args.runs, args.n, setting, nf, seed) if args.runs else None
                 rec = measure(args.n, setting, nf, seed, output=out,
                               checkpoint_every=args.checkpoint_every)  # fmt: skip
@@ -319,7 +331,7 @@ def planned(args: argparse.Namespace, frictions: list[float | None]) -> Iterator
 def point_key(args: argparse.Namespace, ratio: float, friction: float | None, nf: float,
               seed: int) -> tuple:  # fmt: skip
     """A run's identity in the records (the fields of :data:`POINT`)."""
-    return (args.n, ratio, friction, args.rotation, nf, seed)
+    return (args.n, ratio, friction, args.rotation, args.solver_tolerance, nf, seed)
 
 
 def append_record(records: Path, record: dict) -> None:
@@ -340,11 +352,13 @@ def write_status(done: dict, args: argparse.Namespace, frictions: list[float | N
     and N_f), else at the same sliding and N_f with another K_t/K_n, else unknown."""
 
     def cpu_at(**match: float | str | None) -> list[float]:
-        match |= {"n": args.n, "rotation": args.rotation}
+        match |= {"n": args.n, "rotation": args.rotation,
+                  "solver_tolerance": args.solver_tolerance}  # fmt: skip
         return [cpu_of(r) for r in done.values() if all(r[k] == v for k, v in match.items())]
 
     lines = [
-        f"The study at n = {args.n} (rotations {args.rotation}): the runs that --ratio, "
+        f"The study at n = {args.n} (rotations {args.rotation}{tolerance_label(args)}): the "
+        "runs that --ratio, "
         "--friction, --nf and --seeds plan, those in the records and the CPU time of those "
         "missing (`python examples/scripts/fracture_shear.py --status`; a missing run is "
         "priced at its point's recorded mean, else at the same sliding and N_f with another "
@@ -416,11 +430,18 @@ def line_of(r: dict) -> str:
             f"{r['wall']:6.1f} s/run  seeds {r['seeds']}")  # fmt: skip
 
 
+def tolerance_label(args: argparse.Namespace) -> str:
+    """``, solver_tolerance T a`` when ``--solver-tolerance`` is given, else nothing."""
+    tol = args.solver_tolerance
+    return "" if tol is None else f", solver_tolerance {tol:g} a"
+
+
 def write_table(rows: list[dict], args: argparse.Namespace) -> None:
     lines = [
         f"n = {args.n}, lambda = {LAMBDA}, Ca* = 10, solid kind hertz-mindlin (rotations "
-        f"{args.rotation}), to breakthrough; mean +- standard deviation over the seeds of each "
-        "row, CPU time of one run on one thread (`python examples/scripts/fracture_shear.py`).",
+        f"{args.rotation}{tolerance_label(args)}), to breakthrough; mean +- standard "
+        "deviation over the seeds of each row, CPU time of one run on one thread (`python "
+        "examples/scripts/fracture_shear.py`).",
         "",
         "| K_t/K_n | sliding | N_f | D_f (mass-radius) | drained pores | springs removed | "
         "longest straight run | mean straight segment | most sliding contacts | CPU (s/run) | "
@@ -473,7 +494,8 @@ def draw_patterns(args: argparse.Namespace, frictions: list[float | None]) -> No
     from porenet.viz.pattern import plot_pattern, save_figure
 
     settings = [("hertz (the paper's model)", {}), ("hertz, k_f = 0.02 K_0", {"foundation": 0.02})]
-    settings += [(f"K_t/K_n = {r:g}, {friction_label(f)}", solid_of(r, f, args.rotation))
+    settings += [(f"K_t/K_n = {r:g}, {friction_label(f)}",
+                  solid_of(r, f, args.rotation, args.solver_tolerance))
                  for r in args.ratio for f in frictions]  # fmt: skip
     cols = min(4, len(settings))
     n_rows = -(-len(settings) // cols)

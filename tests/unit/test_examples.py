@@ -243,6 +243,25 @@ def test_fracture_shear_checkpoints_need_run_files(tmp_path):
         assert message in out.stderr
 
 
+def test_fracture_shear_solver_tolerance_is_part_of_a_runs_identity(tmp_path):
+    # the study's scene at another solver tolerance is another run: recorded beside the
+    # default's, its run file named after it, and the table says which tolerance it used
+    records, runs, table = tmp_path / "r.jsonl", tmp_path / "runs", tmp_path / "t.md"
+    args = ["--n", "12", "--ratio", "0.5", "--friction", "none", "--nf", "10", "--seeds", "1",
+            "--records", str(records), "--runs", str(runs)]  # fmt: skip
+    _script("fracture_shear.py", *args)
+    _script("fracture_shear.py", *args, "--solver-tolerance", "1e-3", "--table", str(table))
+    recs = [json.loads(line) for line in records.read_text().splitlines()]
+    assert [r["solver_tolerance"] for r in recs] == [None, 1e-3]
+    assert sorted(p.name for p in runs.iterdir()) == [
+        "n12-mindlin-r0.5-stick-held-nf10-s1.h5",
+        "n12-mindlin-r0.5-stick-held-tol0.001-nf10-s1.h5",
+    ]
+    assert "(rotations held, solver_tolerance 0.001 a)" in table.read_text()
+    again = _script("fracture_shear.py", *args, "--solver-tolerance", "1e-3")  # recorded
+    assert len(records.read_text().splitlines()) == 2 and "D_f" in again
+
+
 def test_crack_tip_opening_finds_the_straight_ahead_opening_of_an_elastic_medium():
     # docs/paper.md, "Frictional contacts": the chain opens only the throat ahead of the tip,
     # a shear-stiff medium opens the crack's line further ahead, more on a larger lattice
