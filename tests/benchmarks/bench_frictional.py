@@ -257,9 +257,10 @@ def read_kept(path: Path) -> dict:
 def print_rows(label: str, names: list[str], walls: list[float], runs: list[dict]) -> None:
     """The tolerance table: each run's cost and how far it ends from the first run's."""
     print(f"| {label} | wall (s) | mechanics (s) | updates | ms per update | "
-          "V-cycles | builds | frozen | same drained order | same open contacts | largest "
-          "displacement difference (a) | largest aperture difference (a) |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "V-cycles | builds | frozen | drained | open contacts | same drained order | same "
+          "open contacts | largest displacement difference (a) | largest aperture difference "
+          "(a) |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     first = runs[0]
     import tomllib
 
@@ -274,8 +275,8 @@ def print_rows(label: str, names: list[str], walls: list[float], runs: list[dict
         dh = np.abs(run["apertures"] - first["apertures"]).max() / a
         print(f"| {name} | {wall:.1f} | {s['mechanics_time_s']:.1f} | "
               f"{s['mechanical_updates']} | {per:.1f} | {s['solver_iterations']} | "
-              f"{s['multigrid_builds']} | {s.get('frozen_contacts', 0)} | "
-              f"{'yes' if same else 'no'} | "
+              f"{s['multigrid_builds']} | {s.get('frozen_contacts', 0)} | {len(run['order'])} | "
+              f"{int(np.count_nonzero(run['removed']))} | {'yes' if same else 'no'} | "
               f"{'yes' if np.array_equal(run['removed'], first['removed']) else 'no'} | "
               f"{du:.2g} | {dh:.2g} |")  # fmt: skip
 
