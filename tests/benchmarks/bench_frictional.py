@@ -305,10 +305,11 @@ def compare(files: list[str]) -> None:
 
 def anatomy(max_drained: int, sets: list[str], variants: list[str]) -> None:
     """``anatomy``: the solver's work split into solves an update and V-cycles a solve, for
-    each variant of the scene (``defaults``, or ``KEY=VALUE,...`` added to ``--set``) and, with
-    ``fresh``, the same with every multigrid hierarchy rebuilt before every solve (what a
-    preconditioner that always matched the operator would save in V-cycles, and cost in
-    builds). One thread, in this process, one variant after another."""
+    each variant of the scene (``defaults``, or ``KEY=VALUE,...`` added to ``--set``), once
+    with the hierarchies kept (the default) and once rebuilt before every solve
+    (``REBUILD_EDGES`` set to -1 for that run: what a preconditioner that always matched the
+    operator would save in V-cycles, and cost in builds). The solves are counted by wrapping
+    ``GridSolver.solve``. One thread, in this process, one run after another."""
     from porenet.builtin.solids import grid_solver
     from porenet.simulation import Simulation
     from porenet.threads import configure_threads
