@@ -42,9 +42,9 @@ pores):
   ``steps (1.5e-7 n + 1.8e-9 N) + drained 2.9e-6 n``; implicit ``drained 0.039
   (N / 2500)^1.41``; a deformable medium adds ``steps (3e-5 + 1.8e-9 N)`` (one step per
   call and the coupler's check) and ``updates (2.3e-9 + 7e-9 w) N^1.15`` (``w`` = 1 when
-  fracturing), ``updates 4.7e-7 N`` for ``hertz-mindlin`` (sliding not modelled: a
-  note says so); RKC with local time steps on large lattices ~1/3 of its time without
-  (:data:`LOCAL_STEPS_FACTOR`). Python start-up, imports and the first-run numba
+  fracturing), ``updates 1.9e-7 N`` for ``hertz-mindlin``, times ``1 + 8 r_t w`` with
+  sliding (``r_t = K_t / K_n``); RKC with local time steps on large lattices ~1/3 of its
+  time without (:data:`LOCAL_STEPS_FACTOR`). Python start-up, imports and the first-run numba
   compilation (7-55 s, once per machine: docs/performance.md, "First run") are not
   included.
 
@@ -164,6 +164,12 @@ UPDATE_SECONDS = (2.3e-9, 7e-9, 1.15)
 #: sliding), per pore: the multigrid solve is linear in N (n = 400 Fig. 5 at N_f = 10: 29.7 ms
 #: an update, ``tests/benchmarks/bench_frictional.py run``, 2026-12-06, docs/cost.md).
 MINDLIN_UPDATE_SECONDS = 1.9e-7
+#: With sliding (``solid.friction``) a frictional update costs ``1 + c r_t w`` times one
+#: without (``r_t = K_t / K_n``, ``w`` the fracture weight): contacts at Coulomb's cap change
+#: mode at nearly every update, each change a new solve with a hierarchy built before it, and
+#: the more so the stiffer the contacts and the more the medium fractures. Fitted to the
+#: n = 400 study's CPU times with and without sliding (docs/cost.md).
+MINDLIN_SLIDING = 8.0
 #: Extra peak memory of the frictional solid per pore (two multigrid hierarchies).
 MEMORY_MINDLIN = 600.0
 #: Solid kinds whose fracturing and coupling the model follows (the same coupler and
@@ -442,12 +448,7 @@ def estimate_cost(scene: Any) -> CostEstimate:
     mindlin = solid.kind == "hertz-mindlin"
     if not rigid and not hertz:
         notes.append(f"solid {solid.kind!r}: no cost model for its updates")
-    if mindlin and getattr(solid, "friction", None) is not None:
-        notes.append(
-            "solid.friction: sliding contacts are iterated and change the operator; measured "
-            "1.1-5.2x the CPU time of the same run without sliding at n = 100, N_f >= 1, the "
-            "more the stiffer the contacts (docs/cost.md)"
-        )
+    sliding = mindlin and getattr(solid, "friction", None) is not None
     nf = None if rigid else solid_fracturing_number(scene)
     at = scene.injection.at
 
@@ -474,6 +475,14 @@ def estimate_cost(scene: Any) -> CostEstimate:
     #: and so its steps, change far less with fracturing than the drained count does.
     unfractured = max(1.0, expected)
     w = fracture_weight(nf, fluid.kind) if hertz else 0.0
+    #: What sliding multiplies a frictional update's cost by (:data:`MINDLIN_SLIDING`).
+    slide = 1.0 + MINDLIN_SLIDING * solid.stiffness_ratio * w if sliding else 1.0
+    if sliding:
+        notes.append(
+            f"solid.friction: sliding costed at {slide:.2g}x the mechanics of the same run "
+            "without it (fitted to n = 400 runs: 1.0x below the crossover to 5x at N_f >= 3 "
+            "for K_t/K_n = 0.5, within ~30 %; docs/cost.md)"
+        )
     if hertz and fluid.kind == "viscous" and nf is not None and nf > SOFT_NF:
         notes.append(
             f"N_f = {nf:.3g} is beyond the model's calibration (N_f <= {SOFT_NF:g}): a soft "
@@ -570,7 +579,7 @@ def estimate_cost(scene: Any) -> CostEstimate:
                 wall += steps * (COUPLED_STEP_SECONDS[0] + COUPLED_STEP_SECONDS[1] * pores)
                 c, c_fracture, p = UPDATE_SECONDS
                 if mindlin:
-                    wall += updates * MINDLIN_UPDATE_SECONDS * pores
+                    wall += updates * MINDLIN_UPDATE_SECONDS * pores * slide
                 else:
                     wall += updates * (c + c_fracture * w) * pores**p
 

@@ -158,3 +158,31 @@ def test_frictional_solid_is_costed_like_hertz_with_its_own_update():
     assert not any("no cost model" in note for note in est.notes)
     sliding = estimate_cost(load_scene(SCENES / "fig5-mindlin.toml", ["solid.friction=0.3"]))
     assert any("sliding" in note for note in sliding.notes)
+
+
+@pytest.mark.parametrize(
+    ("ratio", "nf", "measured"),
+    [
+        # CPU time with sliding over the same run's without, docs/fracture-shear-n400.md
+        # (one thread a run, the same conditions): K_t/K_n = 0.5 at N_f = 0.3 (964 / 960 s),
+        # 1 (866 / 275), 3 (2 161 / 499), 10 (4 907 / 1 001); 0.1 and 0.8 at N_f = 1 (359 /
+        # 240, 1 281 / 224)
+        (0.5, 0.3, 1.0),
+        (0.5, 1.0, 3.15),
+        (0.5, 3.0, 4.33),
+        (0.5, 10.0, 4.90),
+        (0.1, 1.0, 1.50),
+        (0.8, 1.0, 5.71),
+    ],
+)
+def test_sliding_is_costed_as_measured_at_n_400(ratio, nf, measured):
+    import sys
+
+    sys.path.insert(0, str(SCENES.parent / "scripts"))
+    from fig5 import make_scene
+
+    solid = {"kind": "hertz-mindlin", "shear_stiffness_ratio": ratio, "rotation": "held"}
+    stick = estimate_cost(load_scene(make_scene(400, nf, seed=1, solid=solid)))
+    slide = estimate_cost(load_scene(make_scene(400, nf, seed=1, solid=solid | {"friction": 0.3})))
+    assert within(slide.wall_seconds / stick.wall_seconds, measured, 1.3)
+    assert slide.drained == stick.drained and slide.mechanical_updates == stick.mechanical_updates
