@@ -35,6 +35,9 @@ takes several sessions; docs/fracture-shear-n400.md). With ``--runs``, ``--check
 a study restarted after its process was killed finishes that run from the checkpoint, with
 the uninterrupted run's result (the code and the scene must be the same; anything else is
 refused, naming the file) and the CPU time of every part (:class:`CpuCheckpoints`).
+``--solver-tolerance T`` makes the runs at another ``solid.solver_tolerance`` (runs of their
+own in the records, their tolerance in the run files' names and the table's caption;
+docs/accuracy.md, "Where the default tolerance lags").
 """
 
 from __future__ import annotations
