@@ -11,7 +11,10 @@
 * :func:`tiny_lattice_cases` and :func:`assert_tiny_lattice_outcome` are the 3 x 3 hard
   cases every viscous integrator's tests run, and what they must end with;
 * :func:`frontier_menisci` lists the menisci of a finished run with the excess of their
-  pressure difference over their entry pressure (an arrested meniscus has none).
+  pressure difference over their entry pressure (an arrested meniscus has none);
+* :class:`KilledAfterCheckpoint` is a checkpoint schedule that raises
+  :class:`Killed` right after writing its first checkpoint: the process killed mid-run,
+  for tests of resuming (docs/run-file.md, "Checkpoints").
 """
 
 from __future__ import annotations
@@ -22,7 +25,22 @@ from typing import Any
 
 import numpy as np
 
+from porenet.io.checkpoint import CheckpointSchedule
 from porenet.simulation import Simulation
+
+
+class Killed(Exception):
+    """Stands for the process dying right after a checkpoint was written."""
+
+
+class KilledAfterCheckpoint(CheckpointSchedule):
+    """A :class:`~porenet.io.checkpoint.CheckpointSchedule` (same arguments) whose first
+    checkpoint is written whole and then :class:`Killed` is raised, as if the process had
+    died there: the run leaves its checkpoint and nothing else."""
+
+    def write(self, simulation: Any) -> Any:
+        super().write(simulation)
+        raise Killed
 
 
 def simulate(scene: Any, **kwargs: Any) -> tuple[Simulation, Any]:

@@ -19,19 +19,10 @@ from pathlib import Path
 
 from porenet.io.checkpoint import CheckpointSchedule, load_checkpoint
 from porenet.simulation import Simulation
+from porenet.testing.runs import Killed, KilledAfterCheckpoint
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = {"fig1b": ROOT / "examples/scenes/fig1b.toml", "fig5": ROOT / "examples/scenes/fig5.toml"}
-
-
-class _Stop(Exception):
-    pass
-
-
-class _StopAfterFirst(CheckpointSchedule):
-    def write(self, simulation):  # type: ignore[no-untyped-def]
-        super().write(simulation)
-        raise _Stop
 
 
 def main() -> None:
@@ -47,8 +38,8 @@ def main() -> None:
     for name in args.only:
         path = folder / f"{name}.h5.checkpoint"
         sim = Simulation.from_scene(SCENES[name], [f"lattice.n={args.n}"])
-        with contextlib.suppress(_Stop):
-            sim.run(_StopAfterFirst(path, every_drained=args.drained))
+        with contextlib.suppress(Killed):
+            sim.run(KilledAfterCheckpoint(path, every_drained=args.drained))
         writes, loads = [], []
         schedule = CheckpointSchedule(path)
         for _ in range(args.repeat):

@@ -84,24 +84,16 @@ def test_killed_run_resumes_to_the_uninterrupted_result(tmp_path: Path) -> None:
 @pytest.fixture(scope="module")
 def checkpoint(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A checkpoint of a small run (written in-process: the API the CLI uses)."""
-    from porenet.io.checkpoint import CheckpointSchedule
     from porenet.simulation import Simulation
+    from porenet.testing.runs import Killed, KilledAfterCheckpoint
 
     folder = tmp_path_factory.mktemp("ckpt")
     path = folder / "small.h5.checkpoint"
 
-    class Stop(Exception):
-        pass
-
-    class StopAfterFirst(CheckpointSchedule):
-        def write(self, simulation):  # type: ignore[no-untyped-def]
-            super().write(simulation)
-            raise Stop
-
     sim = Simulation.from_scene(FIG1B, ["lattice.n=30", "fluid.integrator=explicit"],
                                 output=folder / "small.h5")  # fmt: skip
-    with pytest.raises(Stop):
-        sim.run(StopAfterFirst(path, every_drained=20))
+    with pytest.raises(Killed):
+        sim.run(KilledAfterCheckpoint(path, every_drained=20))
     return path
 
 

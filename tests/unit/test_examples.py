@@ -163,16 +163,9 @@ def _crashed_run(runs: Path, nf: float, point_nf: float) -> Path:
     sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
     from fig5 import make_scene
 
-    from porenet.io.checkpoint import CheckpointSchedule, checkpoint_path
+    from porenet.io.checkpoint import checkpoint_path
     from porenet.simulation import Simulation
-
-    class Killed(Exception):
-        pass
-
-    class KilledAfterFirst(CheckpointSchedule):
-        def write(self, simulation):  # type: ignore[no-untyped-def]
-            super().write(simulation)
-            raise Killed
+    from porenet.testing.runs import Killed, KilledAfterCheckpoint
 
     solid = {"kind": "hertz-mindlin", "shear_stiffness_ratio": 0.5, "rotation": "held",
              "friction": 0.3}  # fmt: skip
@@ -183,7 +176,7 @@ def _crashed_run(runs: Path, nf: float, point_nf: float) -> Path:
     path = checkpoint_path(output)
     with pytest.raises(Killed):
         Simulation.from_scene(scene, output=output).run(
-            KilledAfterFirst(path, every_drained=max(drained // 3, 1))
+            KilledAfterCheckpoint(path, every_drained=max(drained // 3, 1))
         )
     return path
 

@@ -13,12 +13,13 @@ import numpy as np
 import pytest
 
 from porenet.core.errors import ConfigError
-from porenet.io.checkpoint import CheckpointSchedule, checkpoint_path
+from porenet.io.checkpoint import checkpoint_path
 from porenet.io.runfile import read_run
 from porenet.simulation import Simulation
 from porenet.sweep.runner import run_sweep
 from porenet.sweep.spec import expand, load_sweep
 from porenet.sweep.worker import RunTask, execute_run
+from porenet.testing.runs import Killed, KilledAfterCheckpoint
 
 #: Fig. 1b's scene, small and explicit (~250 drained pores, < 1 s), two disorders.
 SWEEP = """
@@ -37,22 +38,14 @@ values = [0.3, 0.5]
 OUTCOME = ("order", "throat", "invasion_pressure", "invasion_time", "pressure", "trapped")
 
 
-class Stop(Exception):
-    """Stands for the kill: raised right after the first checkpoint is written."""
-
-
-class StopAfterFirst(CheckpointSchedule):
-    def write(self, simulation):  # type: ignore[no-untyped-def]
-        super().write(simulation)
-        raise Stop
-
-
 def interrupted(scene: dict, output: Path) -> Path:
     """The checkpoint a run of ``scene`` writing ``output`` leaves when killed mid-way."""
     path = checkpoint_path(output)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with pytest.raises(Stop):
-        Simulation.from_scene(scene, output=output).run(StopAfterFirst(path, every_drained=60))
+    with pytest.raises(Killed):
+        Simulation.from_scene(scene, output=output).run(
+            KilledAfterCheckpoint(path, every_drained=60)
+        )
     return path
 
 

@@ -15,6 +15,7 @@ import pytest
 
 from porenet.io.checkpoint import CheckpointSchedule
 from porenet.simulation import Simulation
+from porenet.testing.runs import Killed, KilledAfterCheckpoint
 
 
 def scene(fluid: dict, n: int = 24, seed: int = 3, **sections: object) -> dict:
@@ -61,16 +62,6 @@ CASES = {
 }
 
 
-class Crash(Exception):
-    """Stands for the process dying right after a checkpoint was written."""
-
-
-class CrashAfterFirst(CheckpointSchedule):
-    def write(self, simulation):  # type: ignore[no-untyped-def]
-        super().write(simulation)
-        raise Crash
-
-
 def _same(a, b) -> None:  # type: ignore[no-untyped-def]
     """Every field of two runs' data equal (wall and compile time aside)."""
     for name in ("order", "throat", "invasion_pressure", "invasion_time", "pressure",
@@ -101,8 +92,10 @@ def test_resumed_run_equals_uninterrupted(name: str, tmp_path) -> None:  # type:
     reference = Simulation.from_scene(config).run()
     drained = reference.summary["n_drained"]
     path = tmp_path / "run.h5.checkpoint"
-    with pytest.raises(Crash):
-        Simulation.from_scene(config).run(CrashAfterFirst(path, every_drained=max(drained // 3, 1)))
+    with pytest.raises(Killed):
+        Simulation.from_scene(config).run(
+            KilledAfterCheckpoint(path, every_drained=max(drained // 3, 1))
+        )
     resumed = Simulation.resume(path)
     assert 0 < resumed.state.n_drained < drained
     _same(reference.data, resumed.run().data)
