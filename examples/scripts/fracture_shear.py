@@ -170,7 +170,12 @@ def start_or_resume(scene: dict, output: Path | None,
               f"{cpu_file_of(path).name}) to make the run afresh", file=sys.stderr)  # fmt: skip
         raise SystemExit(2) from None
     cpu_file = cpu_file_of(path)
-    cpu_before = json.loads(cpu_file.read_text())["cpu_s"] if cpu_file.exists() else 0.0
+    try:
+        cpu_before = float(json.loads(cpu_file.read_text())["cpu_s"]) if cpu_file.exists() else 0.0
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        print(f"{cpu_file}: not a CPU time record ({exc}); the resumed run's record counts "
+              "only the CPU time from here on", file=sys.stderr)  # fmt: skip
+        cpu_before = 0.0
     print(f"resuming {output.name} at {sim.state.n_drained} drained pores "
           f"({cpu_before:.0f} s of CPU before)", flush=True)  # fmt: skip
     return sim, CpuCheckpoints(schedule, cpu_before, started)

@@ -203,6 +203,28 @@ def test_fracture_shear_resumes_a_killed_run_from_its_checkpoint(tmp_path):
     assert resumed["cpu"] > 1000.0 > straight["cpu"]
 
 
+def test_fracture_shear_resumes_past_a_damaged_cpu_record(tmp_path):
+    # the CPU file beside a checkpoint is the script's own, written atomically; one damaged
+    # by hand is named and the run still resumes, its record counting this process's CPU
+    import subprocess
+    import sys
+
+    runs = tmp_path / "runs"
+    path = _crashed_run(runs, 10.0, 10.0)
+    cpu_file = path.with_name(path.name + ".cpu")
+    cpu_file.write_text('{"cpu_s": ')
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--n", "16", "--ratio", "0.5", "--friction", "0.3",
+         "--nf", "10", "--seeds", "1", "--records", str(tmp_path / "r.jsonl"), "--runs",
+         str(runs)],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert out.returncode == 0 and "Traceback" not in out.stderr, out.stderr
+    assert f"{cpu_file}: not a CPU time record" in out.stderr
+    assert "(0 s of CPU before)" in out.stdout and not cpu_file.exists()
+
+
 def test_fracture_shear_refuses_a_checkpoint_of_another_scene(tmp_path):
     # a checkpoint at a point's place that holds another scene (here N_f = 3 where N_f = 10
     # belongs) is named and left alone, and nothing is recorded
