@@ -30,7 +30,12 @@ run's CPU time (the table's column) and how many contacts it froze (``frozen``,
 docs/run-file.md's ``frozen_contacts``). ``--status FILE`` runs nothing and writes which
 runs of the planned study (``--ratio`` x ``--friction`` x ``--nf`` x ``--seeds``) the records
 hold, which are missing, and the CPU time the missing ones should take (a study at n = 400
-takes several sessions; docs/fracture-shear-n400.md). With ``--runs``, ``--checkpoint-every
+takes several sessions; docs/fracture-shear-n400.md); a missing run with sliding at an N_f
+that no run with sliding reached yet is priced at the runs without sliding there times the
+cost model's factor for sliding (docs/cost.md). ``--skip-settled`` runs no third seed at a
+point whose first two found the same pattern (the same springs opened, D_f within
+:data:`SETTLED_D_F`: above the crossover every seed opens the full cross), and ``--status``
+lists such a seed as settled rather than missing. With ``--runs``, ``--checkpoint-every
 10m`` writes each run's checkpoint beside its run file (docs/run-file.md, "Checkpoints"), and
 a study restarted after its process was killed finishes that run from the checkpoint, with
 the uninterrupted run's result (the code and the scene must be the same; anything else is
@@ -57,6 +62,7 @@ from fig5 import LAMBDA, make_scene, shape
 
 from porenet.analysis.features import LONG_RUN, straight_runs
 from porenet.config.loading import load_scene
+from porenet.core.cost import MINDLIN_SLIDING, fracture_weight
 from porenet.core.errors import ConfigError
 from porenet.io.atomic import atomic_output
 from porenet.io.checkpoint import (
@@ -70,6 +76,9 @@ from porenet.simulation import Simulation
 from porenet.threads import configure_threads
 
 KEYS = ("d_f", "drained", "removed", "straight", "segment")
+#: ``--skip-settled``: a point's runs found the same pattern when they opened the same number
+#: of springs and their D_f differ by at most this much.
+SETTLED_D_F = 1e-3
 #: What identifies a run in the records.
 POINT = ("n", "ratio", "friction", "rotation", "solver_tolerance", "nf", "seed")
 
@@ -255,6 +264,11 @@ def main() -> None:
                         "this often (90s, 10m, 2h, or a number of drained pores); a run "
                         "whose checkpoint is there when the study is restarted goes on from "
                         "it")  # fmt: skip
+    parser.add_argument("--skip-settled", action="store_true",
+                        help="run no more seeds at a point whose first two found the same "
+                        "pattern (the same springs opened, D_f within 1e-3: above the "
+                        "crossover the full cross, whatever the disorder); --status lists "
+                        "them as settled, not missing")  # fmt: skip
     parser.add_argument("--status", type=Path,
                         help="run nothing: write to this file (markdown) which runs of the "
                         "study that --ratio, --friction, --nf and --seeds plan are in "
@@ -308,6 +322,12 @@ def main() -> None:
             key = point_key(args, ratio, friction, nf, seed)
             if key not in done and args.no_run:
                 continue
+            if key not in done and args.skip_settled and settled(runs):
+                print(
+                    f"K_t/K_n {ratio:g} {friction_label(friction)} N_f {nf:g}: seed {seed} "
+                    f"not run (seeds {','.join(str(r['seed']) for r in runs)} settled it)"
+                )
+                continue
             if key not in done:
                 setting = solid_of(ratio, friction, args.rotation, args.solver_tolerance)
                 out = run_file(args.runs, args.n, setting, nf, seed) if args.runs else None
@@ -342,6 +362,17 @@ def point_key(args: argparse.Namespace, ratio: float, friction: float | None, nf
     return (args.n, ratio, friction, args.rotation, args.solver_tolerance, nf, seed)
 
 
+def settled(runs: list[dict]) -> bool:
+    """Whether a point's runs (two or more seeds) found the same pattern: the same number of
+    springs opened and D_f within :data:`SETTLED_D_F` (``--skip-settled``)."""
+    d_f = [r["d_f"] for r in runs]
+    return (
+        len(runs) >= 2
+        and len({r["removed"] for r in runs}) == 1
+        and (max(d_f) - min(d_f) <= SETTLED_D_F)
+    )
+
+
 def append_record(records: Path, record: dict) -> None:
     """Append one run's record as a line of ``records``, on a line of its own even if the
     file's last line lost its newline (an edited file)."""
@@ -357,54 +388,87 @@ def append_record(records: Path, record: dict) -> None:
 def write_status(done: dict, args: argparse.Namespace, frictions: list[float | None]) -> None:
     """``--status``: the planned study's runs found in the records and those missing, each
     missing one priced at the mean CPU time of the recorded runs at its point (its setting
-    and N_f), else at the same sliding and N_f with another K_t/K_n, else unknown."""
+    and N_f), else at the same sliding and N_f with another K_t/K_n, else (with sliding) at
+    the runs without sliding at its K_t/K_n and N_f (or another K_t/K_n) times what the cost
+    model says sliding multiplies an update's cost by (:func:`sliding_factor`), else
+    unknown. With ``--skip-settled`` a seed after the ones that settled its point is listed
+    as settled, neither missing nor priced."""
 
     def cpu_at(**match: float | str | None) -> list[float]:
         match |= {"n": args.n, "rotation": args.rotation,
                   "solver_tolerance": args.solver_tolerance}  # fmt: skip
         return [cpu_of(r) for r in done.values() if all(r[k] == v for k, v in match.items())]
 
+    def price(ratio: float, friction: float | None, nf: float) -> float | None:
+        cpu = cpu_at(ratio=ratio, friction=friction, nf=nf) or cpu_at(friction=friction, nf=nf)
+        if cpu:
+            return statistics.fmean(cpu)
+        if friction is None:
+            return None
+        cpu = cpu_at(ratio=ratio, friction=None, nf=nf) or cpu_at(friction=None, nf=nf)
+        return statistics.fmean(cpu) * sliding_factor(ratio, nf) if cpu else None
+
     lines = [
         f"The study at n = {args.n} (rotations {args.rotation}{tolerance_label(args)}): the "
-        "runs that --ratio, "
-        "--friction, --nf and --seeds plan, those in the records and the CPU time of those "
-        "missing (`python examples/scripts/fracture_shear.py --status`; a missing run is "
-        "priced at its point's recorded mean, else at the same sliding and N_f with another "
-        "K_t/K_n; one thread a run).",
+        "runs that --ratio, --friction, --nf and --seeds plan, those in the records and the "
+        "CPU time of those missing (`python examples/scripts/fracture_shear.py --status`; a "
+        "missing run is priced at its point's recorded mean, else at the same sliding and "
+        "N_f with another K_t/K_n, else with sliding at the runs without it times the cost "
+        "model's factor for sliding, docs/cost.md; one thread a run"
+        + (
+            "; a seed after two that found the same pattern is settled, not run"
+            if args.skip_settled
+            else ""
+        )
+        + ").",
         "",
-        "| K_t/K_n | sliding | N_f | seeds done | seeds missing | CPU done (s) | CPU missing "
-        "(s, estimate) |",
-        "|---|---|---|---|---|---|---|",
+        "| K_t/K_n | sliding | N_f | seeds done | seeds missing | seeds settled | CPU done (s) "
+        "| CPU missing (s, estimate) |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     spent = todo = 0.0
-    n_done = n_missing = unpriced = 0
+    n_done = n_missing = n_settled = unpriced = 0
     for ratio, friction, nf in planned(args, frictions):
-        have, missing, here = [], [], 0.0
+        have, missing, skipped, here = [], [], [], 0.0
         for seed in args.seeds:
             key = point_key(args, ratio, friction, nf, seed)
-            (have if key in done else missing).append(seed)
-            here += cpu_of(done[key]) if key in done else 0.0
-        price = cpu_at(ratio=ratio, friction=friction, nf=nf) or cpu_at(friction=friction, nf=nf)
-        cost = statistics.fmean(price) * len(missing) if price and missing else 0.0
-        if missing and not price:
+            runs = [done[point_key(args, ratio, friction, nf, s)] for s in have]
+            if key in done:
+                have.append(seed)
+                here += cpu_of(done[key])
+            elif args.skip_settled and settled(runs):
+                skipped.append(seed)
+            else:
+                missing.append(seed)
+        each = price(ratio, friction, nf) if missing else None
+        cost = each * len(missing) if each is not None else 0.0
+        if missing and each is None:
             unpriced += len(missing)
         spent += here
         todo += cost
         n_done, n_missing = n_done + len(have), n_missing + len(missing)
-        estimate = "unknown" if missing and not price else f"{cost:.0f}" if missing else ""
+        n_settled += len(skipped)
+        estimate = "unknown" if missing and each is None else f"{cost:.0f}" if missing else ""
         lines.append(
             f"| {ratio:g} | {friction_label(friction)} | {nf:g} | "
             f"{','.join(map(str, have)) or '-'} | {','.join(map(str, missing)) or '-'} "
-            f"| {here:.0f} | {estimate} |"
+            f"| {','.join(map(str, skipped)) or '-'} | {here:.0f} | {estimate} |"
         )
     summary = (
-        f"{n_done} of {n_done + n_missing} runs done ({spent / 3600:.1f} h of CPU); "
+        f"{n_done} of {n_done + n_missing + n_settled} runs done ({spent / 3600:.1f} h of CPU); "
         f"{n_missing} missing, ~{todo / 3600:.1f} h of CPU"
         + (f" plus {unpriced} with no recorded run to price them by" if unpriced else "")
+        + (f"; {n_settled} settled (not run)" if n_settled else "")
     )
     args.status.write_text("\n".join([*lines, "", summary]) + "\n")
     print(summary)
     print(f"status: {args.status}")
+
+
+def sliding_factor(ratio: float, nf: float) -> float:
+    """What sliding multiplies a run's cost by, from the cost model (docs/cost.md):
+    ``1 + c r_t w`` with ``w`` the fracture weight of N_f."""
+    return 1.0 + MINDLIN_SLIDING * ratio * fracture_weight(nf)
 
 
 def aggregate(runs: list[dict], **point: float | None) -> dict:

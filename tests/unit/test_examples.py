@@ -113,11 +113,52 @@ def test_fracture_shear_status_lists_the_missing_runs_and_prices_them(tmp_path):
                   "--nf", "1", "3", "10", "--seeds", "1", "2", "--records", str(records),
                   "--status", str(status))  # fmt: skip
     rows = status.read_text().splitlines()
-    assert "| 0.5 | no sliding | 1 | 1,2 | - | 400 |  |" in rows
-    assert "| 0.5 | no sliding | 3 | - | 1,2 | 0 | 1800 |" in rows  # priced at K_t/K_n = 0.8
-    assert "| 0.5 | no sliding | 10 | - | 1,2 | 0 | unknown |" in rows
+    assert "| 0.5 | no sliding | 1 | 1,2 | - | - | 400 |  |" in rows
+    assert "| 0.5 | no sliding | 3 | - | 1,2 | - | 0 | 1800 |" in rows  # priced at K_t/K_n = 0.8
+    assert "| 0.5 | no sliding | 10 | - | 1,2 | - | 0 | unknown |" in rows
     assert out.startswith("2 of 6 runs done (0.1 h of CPU); 4 missing, ~0.5 h of CPU plus 2 ")
     assert records.read_text().count("\n") == 3  # nothing ran
+
+
+def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settled_seeds(
+    tmp_path,
+):
+    # with sliding and no run at that N_f yet: the run without sliding times the cost model's
+    # factor; with --skip-settled a third seed after two that found the same cross is not due
+    import importlib.util
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    spec = importlib.util.spec_from_file_location("fracture_shear_script", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    cross = {"n": 400, "ratio": 0.5, "friction": None, "rotation": "held", "nf": 10.0,
+             "d_f": 1.0111, "drained": 790, "removed": 798, "straight": 398, "segment": 197.0,
+             "sliding": 0, "wall": 1100.0}  # fmt: skip
+    finger = cross | {"nf": 0.3, "removed": 0}
+    lines = [cross | {"seed": 1, "cpu": 1000.0}, cross | {"seed": 2, "cpu": 1200.0,
+                                                          "d_f": 1.0115, "drained": 789},
+             finger | {"seed": 1, "cpu": 900.0, "d_f": 1.69},
+             finger | {"seed": 2, "cpu": 900.0, "d_f": 1.70}]  # fmt: skip
+    records, status = tmp_path / "r.jsonl", tmp_path / "status.md"
+    records.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    args = ["--n", "400", "--ratio", "0.5", "--nf", "0.3", "10", "--records", str(records),
+            "--status", str(status)]  # fmt: skip
+    out = _script("fracture_shear.py", *args, "--friction", "none", "0.3", "--skip-settled")
+    rows = status.read_text().splitlines()
+    assert "| 0.5 | no sliding | 10 | 1,2 | - | 3 | 2200 |  |" in rows  # settled: same cross
+    assert "| 0.5 | no sliding | 0.3 | 1,2 | 3 | - | 1800 | 900 |" in rows  # fingers differ
+    factor = module.sliding_factor(0.5, 10.0)
+    assert factor == pytest.approx(5.0)  # 1 + 8 r_t w: fully fracturing at N_f = 10
+    assert f"| 0.5 | mu = 0.3 | 10 | - | 1,2,3 | - | 0 | {3 * 1100.0 * factor:.0f} |" in rows
+    assert out.startswith("4 of 12 runs done") and "; 1 settled (not run)" in out
+    # without the flag the third seed is missing, as before
+    _script("fracture_shear.py", *args, "--friction", "none")
+    assert "| 0.5 | no sliding | 10 | 1,2 | 3 | - | 2200 | 1100 |" in status.read_text()
+    # and a study run with the flag does not make the settled point's third seed
+    made = _script("fracture_shear.py", "--n", "400", "--ratio", "0.5", "--friction", "none",
+                   "--nf", "10", "--records", str(records), "--skip-settled")  # fmt: skip
+    assert "N_f 10: seed 3 not run (seeds 1,2 settled it)" in made
+    assert records.read_text().count("\n") == 4
 
 
 def test_fracture_shear_names_a_broken_record_and_runs_nothing(tmp_path):
