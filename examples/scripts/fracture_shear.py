@@ -35,7 +35,8 @@ that no run with sliding reached yet is priced at the runs without sliding there
 cost model's factor for sliding (docs/cost.md). ``--skip-settled`` runs no third seed at a
 point whose first two found the same pattern (the same springs opened, D_f within
 :data:`SETTLED_D_F`: above the crossover every seed opens the full cross), and ``--status``
-lists such a seed as settled rather than missing. With ``--runs``, ``--checkpoint-every
+lists such a seed as settled rather than missing. ``--by-nf FILE`` tables every run at each
+N_f and sliding setting together, whatever its K_t/K_n (the study's answer at a glance). With ``--runs``, ``--checkpoint-every
 10m`` writes each run's checkpoint beside its run file (docs/run-file.md, "Checkpoints"), and
 a study restarted after its process was killed finishes that run from the checkpoint, with
 the uninterrupted run's result (the code and the scene must be the same; anything else is
@@ -253,6 +254,10 @@ def main() -> None:
                         "sessions or machines share); points without one are left out")  # fmt: skip
     parser.add_argument("--table", type=Path, help="markdown table")
     parser.add_argument("--out", type=Path, help="figure: D_f against N_f (PNG)")
+    parser.add_argument("--by-nf", type=Path,
+                        help="markdown table: per sliding setting and N_f, every run at "
+                        "any K_t/K_n together (D_f lowest-highest, springs opened, "
+                        "drained)")  # fmt: skip
     parser.add_argument("--patterns", type=Path, help="figure: patterns (PNG)")
     parser.add_argument("--pattern-seed", type=int, default=1)
     parser.add_argument("--pattern-nf", type=float, default=10.0)
@@ -315,7 +320,7 @@ def main() -> None:
     if args.status:
         write_status(done, args, frictions)
         return
-    rows = []
+    rows, used = [], []
     for ratio, friction, nf in planned(args, frictions):
         runs = []
         for seed in args.seeds:
@@ -339,10 +344,13 @@ def main() -> None:
             runs.append(done[key])
         if not runs:
             continue
+        used += runs
         rows.append(aggregate(runs, ratio=ratio, friction=friction, nf=nf))
         print(line_of(rows[-1]), flush=True)
     if args.table:
         write_table(rows, args)
+    if args.by_nf:
+        write_by_nf(used, args)
     if args.out:
         draw(rows, args.n, args.out)
         print(f"figure: {args.out}")
@@ -528,6 +536,37 @@ def write_table(rows: list[dict], args: argparse.Namespace) -> None:
     ]
     args.table.write_text("\n".join(lines) + "\n")
     print(f"table: {args.table}")
+
+
+def write_by_nf(runs: list[dict], args: argparse.Namespace) -> None:
+    """``--by-nf``: the runs of every K_t/K_n together, per sliding setting and N_f: whether
+    any setting comes near a D_f, whatever its stiffness ratio."""
+
+    def span(values: list[float], digits: int) -> str:
+        lo, hi = min(values), max(values)
+        return f"{lo:.{digits}f}" if lo == hi else f"{lo:.{digits}f}-{hi:.{digits}f}"
+
+    lines = [
+        f"n = {args.n} (rotations {args.rotation}{tolerance_label(args)}): every run of the "
+        "records at each N_f, all K_t/K_n together, one line per sliding setting (`python "
+        "examples/scripts/fracture_shear.py --by-nf`).",
+        "",
+        "| sliding | N_f | runs | K_t/K_n | D_f (lowest-highest) | springs opened | drained "
+        "pores |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    settings = sorted({(r["friction"] is not None, r["friction"] or 0.0, r["nf"]) for r in runs})
+    for sliding, friction, nf in settings:
+        here = [r for r in runs if (r["friction"] is not None) == sliding
+                and (r["friction"] or 0.0) == friction and r["nf"] == nf]  # fmt: skip
+        ratios = ", ".join(f"{x:g}" for x in sorted({r["ratio"] for r in here}))
+        lines.append(
+            f"| {friction_label(here[0]['friction'])} | {nf:g} | {len(here)} | {ratios} | "
+            f"{span([r['d_f'] for r in here], 3)} | {span([r['removed'] for r in here], 0)} | "
+            f"{span([r['drained'] for r in here], 0)} |"
+        )
+    args.by_nf.write_text("\n".join(lines) + "\n")
+    print(f"table: {args.by_nf}")
 
 
 def draw(rows: list[dict], n: int, out: Path) -> None:

@@ -159,6 +159,16 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
                    "--nf", "10", "--records", str(records), "--skip-settled")  # fmt: skip
     assert "N_f 10: seed 3 not run (seeds 1,2 settled it)" in made
     assert records.read_text().count("\n") == 4
+    # --by-nf: every run at an N_f together, whatever its K_t/K_n
+    by_nf = tmp_path / "by-nf.md"
+    other = cross | {"ratio": 0.8, "seed": 1, "d_f": 1.05}
+    records.write_text(records.read_text() + json.dumps(other) + "\n")
+    _script("fracture_shear.py", "--n", "400", "--ratio", "0.5", "0.8", "--friction", "none",
+            "--nf", "0.3", "10", "--records", str(records), "--no-run",
+            "--by-nf", str(by_nf))  # fmt: skip
+    rows = by_nf.read_text().splitlines()
+    assert "| no sliding | 0.3 | 2 | 0.5 | 1.690-1.700 | 0 | 790 |" in rows
+    assert "| no sliding | 10 | 3 | 0.5, 0.8 | 1.011-1.050 | 798 | 789-790 |" in rows
 
 
 def test_fracture_shear_names_a_broken_record_and_runs_nothing(tmp_path):
