@@ -25,9 +25,11 @@ REBUILD_MARGIN = 4
 #: more than this fraction of themselves since the build (contacts that opened or closed):
 #: the V-cycle's correction is the solver's estimate of the error left, and it is a good one
 #: only while the hierarchy is close to the operator. Fewer changes are left to the finest
-#: level, which follows the operator at every solve, and so are contacts that started or
-#: stopped sliding (their edge goes to or from zero): with friction they change at nearly
-#: every update (:func:`porenet.kernels.mechanics.multigrid.drifted_edges`).
+#: level, which follows the operator at every solve. Contacts that start or stop sliding
+#: (their edge goes to or from zero, at nearly every update with friction) never count: the
+#: hierarchy is built with every sliding contact stuck
+#: (:func:`porenet.kernels.mechanics.multigrid.remember_stuck`), and only the finest level
+#: sees them.
 REBUILD_DRIFT = 0.5
 REBUILD_EDGES = 32
 
@@ -54,12 +56,15 @@ class GridSolver:
     with rotations held: ``u_x`` and ``u_y`` separately, each by conjugate gradients
     preconditioned by a V-cycle (:mod:`porenet.kernels.mechanics.multigrid`).
 
-    The hierarchies are built from the operator of one update and kept for later ones (whose
-    stiffnesses have changed a little): the iteration is exact with the current operator
-    whatever the preconditioner. The finest level (the smoother) is brought up to date before
-    every solve; the whole hierarchy is rebuilt when more than :data:`REBUILD_EDGES` edges'
-    stiffnesses changed by more than :data:`REBUILD_DRIFT` of themselves since the build, and
-    when a solve needs :data:`REBUILD_MARGIN` more iterations than right after it was built.
+    The hierarchies are built from the operator of one update, with every sliding contact
+    at the tangential stiffness it had when it last stuck (the operator "stuck"), and kept
+    for later ones (whose stiffnesses have changed a little): the iteration is exact with the
+    current operator whatever the preconditioner. The finest level (the smoother, and the
+    operator the conjugate gradients apply) is brought up to date before every solve; the
+    whole hierarchy is rebuilt when more than :data:`REBUILD_EDGES` edges' stiffnesses (of
+    the stuck operator) changed by more than :data:`REBUILD_DRIFT` of themselves since the
+    build, and when a solve needs :data:`REBUILD_MARGIN` more iterations than right after it
+    was built. Without sliding the stuck operator is the operator.
 
     Parameters
     ----------
@@ -80,7 +85,10 @@ class GridSolver:
         m = layout.size
         self._operators = operators(m)
         self._hierarchies: list[mg.Hierarchy | None] = [None, None]
-        self._built_from = operators(m)  # the operators the hierarchies were built from
+        # the operators with every sliding contact stuck (mg.remember_stuck), and those the
+        # hierarchies were built from (stuck, at the build)
+        self._stuck = operators(m)
+        self._built_from = operators(m)
         self._workspaces: list[mg.Workspace | None] = [None, None]
         self._baseline = [0, 0]
         self._rhs = np.zeros((2, m * m))
@@ -121,29 +129,35 @@ class GridSolver:
 
     def _field(self, axis: int) -> tuple[int, bool, int]:
         """Solve one component: (V-cycles, converged, hierarchies built)."""
-        op = self._operators[axis]
+        op, stuck = self._operators[axis], self._stuck[axis]
+        held = mg.remember_stuck(op, stuck)
         rebuilt = 0
         hierarchy = self._hierarchies[axis]
         reference = self._built_from[axis]
-        if hierarchy is None or mg.drifted_edges(op, reference, REBUILD_DRIFT) > REBUILD_EDGES:
-            rebuilt += self._build(axis, op)
+        if hierarchy is None or mg.drifted_edges(stuck, reference, REBUILD_DRIFT) > REBUILD_EDGES:
+            rebuilt += self._build(axis, held)
         else:
             mg.refresh_finest(hierarchy, op)
         its = self._run(axis, op)
         converged = its >= 0
         if its < 0 or its > max(self._baseline[axis], 2) + REBUILD_MARGIN:
-            # drifted (or failed): rebuild from this operator and go on from where it is
-            rebuilt += self._build(axis, op)
+            # drifted (or failed): rebuild (from the stuck operator) and go on from where it is
+            rebuilt += self._build(axis, held)
             more = self._run(axis, op)
             its = (its if its > 0 else self.max_iterations) + abs(more)
             converged = more >= 0
         return its, converged, rebuilt
 
-    def _build(self, axis: int, op: mg.Operator) -> int:
-        hierarchy = mg.build(op)
+    def _build(self, axis: int, held: int) -> int:
+        """Build ``axis``'s hierarchy from its stuck operator; its finest level then made the
+        current operator's when ``held`` edges of sliding contacts differ."""
+        stuck = self._stuck[axis]
+        hierarchy = mg.build(stuck)
+        if held:
+            mg.refresh_finest(hierarchy, self._operators[axis])
         reference = self._built_from[axis]
-        reference.across_columns[:] = op.across_columns
-        reference.across_rows[:] = op.across_rows
+        reference.across_columns[:] = stuck.across_columns
+        reference.across_rows[:] = stuck.across_rows
         self._hierarchies[axis] = hierarchy
         self._workspaces[axis] = mg.workspace(hierarchy)
         self._baseline[axis] = -1  # set by the next solve

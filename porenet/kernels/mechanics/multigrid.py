@@ -37,7 +37,9 @@ weights that changed since): the conjugate gradient iteration then uses the curr
 brings the finest level's smoother up to date at the cost of one pass over the grid (local
 changes, a contact that opens or starts sliding, are then seen where they are), and the
 caller rebuilds the whole hierarchy when many edges changed or the iterations grow
-(``porenet/builtin/solids/grid_solver.py``).
+(``porenet/builtin/solids/grid_solver.py``). The frictional solid builds it from the operator
+with every sliding contact stuck (:func:`remember_stuck`) and refreshes the finest level to
+the current one.
 """
 
 from __future__ import annotations
@@ -95,7 +97,6 @@ class Operator(NamedTuple):
     across_columns: np.ndarray
     across_rows: np.ndarray
     diagonal: np.ndarray
-
 
 
 class Hierarchy(NamedTuple):
@@ -348,6 +349,33 @@ def drifted_edges(operator: Operator, reference: Operator, threshold: float) -> 
             if w != 0.0 and w0 != 0.0 and abs(w - w0) > threshold * max(w, w0):
                 count += 1
     return count
+
+
+@njit
+def remember_stuck(operator: Operator, stuck: Operator) -> int:
+    """Bring ``stuck`` up to date with ``operator``, in place: every edge that is not zero in
+    ``operator`` takes its weight, an edge that is zero there (only a sliding contact's, with
+    rotations held: its tangential stiffness) keeps the weight it had when it last stuck, and
+    the diagonal is ``operator``'s. Returns how many edges ``stuck`` holds for such contacts
+    (0: ``stuck`` equals ``operator``).
+
+    ``stuck`` is what the frictional solid builds its hierarchies from: the sliding set swings
+    by tens of thousands of contacts between updates, and coarse levels built from one
+    moment's set precondition the next ones badly in both directions; built with every
+    sliding contact stuck they stay one consistent, stiffer picture of the medium, and the
+    finest level (:func:`refresh_finest`) carries the current modes (docs/performance.md,
+    "Frictional solid")."""
+    held = 0
+    for a, b in ((operator.across_columns, stuck.across_columns),
+                 (operator.across_rows, stuck.across_rows)):  # fmt: skip
+        flat_a, flat_b = a.ravel(), b.ravel()
+        for i in range(flat_a.shape[0]):
+            if flat_a[i] != 0.0:
+                flat_b[i] = flat_a[i]
+            elif flat_b[i] != 0.0:
+                held += 1
+    stuck.diagonal[:] = operator.diagonal
+    return held
 
 
 def refresh_finest(hierarchy: Hierarchy, operator: Operator) -> None:

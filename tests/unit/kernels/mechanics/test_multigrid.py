@@ -203,6 +203,53 @@ def test_drifted_edges_count_opened_contacts_not_sliding_ones():
     assert mg.drifted_edges(op, built, 0.5) == 7
 
 
+def test_remember_stuck_keeps_a_sliding_contacts_last_stiffness():
+    """The operator the frictional solid builds hierarchies from: every edge at its current
+    weight, except an edge that went to zero (a contact sliding with rotations held), which
+    keeps the weight it had when it last stuck; one that never stuck stays zero."""
+    op = random_operator(20, 0.5, 3, seed=5, foundation=0.1)
+    op.across_rows[2, 0:4] = 0.0  # sliding from the start: never stuck
+    stuck = mg.Operator(np.zeros_like(op.across_columns), np.zeros_like(op.across_rows),
+                        np.zeros_like(op.diagonal))  # fmt: skip
+    assert mg.remember_stuck(op, stuck) == 0
+    for a, b in zip(stuck, op, strict=True):
+        np.testing.assert_array_equal(a, b)
+    before = op.across_rows[5, 0:12].copy()
+    op.across_rows[5, 0:12] = 0.0  # twelve start sliding
+    op.across_columns[4, 2:9] = 2e-6  # seven open: taken as they are
+    op.diagonal[:] = 0.2
+    assert mg.remember_stuck(op, stuck) == 12
+    np.testing.assert_array_equal(stuck.across_rows[5, 0:12], before)
+    np.testing.assert_array_equal(stuck.across_columns, op.across_columns)
+    np.testing.assert_array_equal(stuck.diagonal, op.diagonal)
+    assert np.all(stuck.across_rows[2, 0:4] == 0.0)
+    op.across_rows[5, 0:12] = 1.5 * before  # stuck again, at another stiffness
+    assert mg.remember_stuck(op, stuck) == 0
+    np.testing.assert_array_equal(stuck.across_rows, op.across_rows)
+
+
+@pytest.mark.parametrize("sliding", [0.1, 0.5])
+def test_a_hierarchy_of_the_stuck_operator_solves_the_sliding_one_exactly(sliding):
+    """A hierarchy built with every sliding contact stuck, its finest level refreshed to the
+    operator with them sliding (zero tangential edges), preconditions the conjugate gradients
+    on the current operator: the sparse direct solution, to round-off, whatever fraction of
+    the contacts slide."""
+    m = 40
+    stuck = random_operator(m, 0.5, 6, seed=8)
+    rng = np.random.default_rng(8)
+    op = mg.Operator(stuck.across_columns.copy(), stuck.across_rows.copy(), stuck.diagonal)
+    op.across_rows[rng.random(op.across_rows.shape) < sliding] = 0.0
+    hierarchy = mg.build(stuck)
+    mg.refresh_finest(hierarchy, op)
+    rhs = rng.standard_normal(m * m)
+    x = np.zeros(m * m)
+    its = mg.solve(op, hierarchy, mg.workspace(hierarchy), rhs, x, 0.0,
+                   1e-12 * np.abs(rhs).max(), 400)  # fmt: skip
+    exact = spsolve(sparse_matrix(op).tocsc(), rhs)
+    assert its > 0
+    np.testing.assert_allclose(x, exact, rtol=0, atol=1e-9 * np.abs(exact).max())
+
+
 @settings(max_examples=40, deadline=None)
 @given(size=st.integers(1, 40), seed=st.integers(0, 2**31 - 1), shift=st.floats(1e-6, 10.0))
 def test_cholesky_of_the_coarsest_level_equals_lapacks(size, seed, shift):
