@@ -368,13 +368,16 @@ def remember_stuck(operator: Operator, stuck: Operator) -> int:
     held = 0
     for a, b in ((operator.across_columns, stuck.across_columns),
                  (operator.across_rows, stuck.across_rows)):  # fmt: skip
-        flat_a, flat_b = a.ravel(), b.ravel()
-        for i in range(flat_a.shape[0]):
-            if flat_a[i] != 0.0:
-                flat_b[i] = flat_a[i]
-            elif flat_b[i] != 0.0:
-                held += 1
-    stuck.diagonal[:] = operator.diagonal
+        for i in range(a.shape[0]):
+            for j in range(a.shape[1]):
+                if a[i, j] != 0.0:
+                    b[i, j] = a[i, j]
+                elif b[i, j] != 0.0:
+                    held += 1
+    d, e = operator.diagonal, stuck.diagonal
+    for i in range(d.shape[0]):
+        for j in range(d.shape[1]):
+            e[i, j] = d[i, j]
     return held
 
 
