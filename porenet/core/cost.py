@@ -168,7 +168,9 @@ MINDLIN_UPDATE_SECONDS = 1.9e-7
 #: without (``r_t = K_t / K_n``, ``w`` the fracture weight): contacts at Coulomb's cap change
 #: mode at nearly every update, each change a new solve with a hierarchy built before it, and
 #: the more so the stiffer the contacts and the more the medium fractures. Fitted to the
-#: n = 400 study's CPU times with and without sliding (docs/cost.md).
+#: n = 400 study's CPU times with and without sliding (docs/cost.md), made before the
+#: hierarchies were built with every sliding contact stuck (11f18f4), which costs less: an
+#: overestimate since, until refitted (docs/cost.md).
 MINDLIN_SLIDING = 8.0
 #: Extra peak memory of the frictional solid per pore (two multigrid hierarchies).
 MEMORY_MINDLIN = 600.0
