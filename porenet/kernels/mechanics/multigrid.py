@@ -364,7 +364,7 @@ def remember_stuck(operator: Operator, stuck: Operator) -> int:
     moment's set precondition the next ones badly in both directions; built with every
     sliding contact stuck they stay one consistent, stiffer picture of the medium, and the
     finest level (:func:`refresh_finest`) carries the current modes (docs/performance.md,
-    "Frictional solid")."""
+    "Hierarchies of the stuck operator")."""
     held = 0
     for a, b in ((operator.across_columns, stuck.across_columns),
                  (operator.across_rows, stuck.across_rows)):  # fmt: skip
