@@ -36,11 +36,12 @@ cost model's factor for sliding (docs/cost.md). ``--skip-settled`` runs no third
 point whose first two found the same pattern (the same springs opened, D_f within
 :data:`SETTLED_D_F`: above the crossover every seed opens the full cross), and ``--status``
 lists such a seed as settled rather than missing. ``--by-nf FILE`` tables every run at each
-N_f and sliding setting together, whatever its K_t/K_n (the study's answer at a glance). With ``--runs``, ``--checkpoint-every
-10m`` writes each run's checkpoint beside its run file (docs/run-file.md, "Checkpoints"), and
-a study restarted after its process was killed finishes that run from the checkpoint, with
-the uninterrupted run's result (the code and the scene must be the same; anything else is
-refused, naming the file) and the CPU time of every part (:class:`CpuCheckpoints`).
+N_f and sliding setting together, whatever its K_t/K_n (the study's answer at a glance).
+With ``--runs``, ``--checkpoint-every 10m`` writes each run's checkpoint beside its run file
+(docs/run-file.md, "Checkpoints"), and a study restarted after its process was killed
+finishes that run from the checkpoint, with the uninterrupted run's result (the code and
+the scene must be the same; anything else is refused, naming the file) and the CPU time of
+every part (:class:`CpuCheckpoints`).
 ``--solver-tolerance T`` makes the runs at another ``solid.solver_tolerance`` (runs of their
 own in the records, their tolerance in the run files' names and the table's caption;
 docs/accuracy.md, "Where the default tolerance lags").
