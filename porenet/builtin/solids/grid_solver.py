@@ -9,6 +9,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from porenet.kernels.mechanics import multigrid as mg
+from porenet.kernels.mechanics import multigrid_drift as drift
 from porenet.kernels.mechanics.grid import (
     GridLayout,
     fill_operators,
@@ -28,7 +29,7 @@ REBUILD_MARGIN = 4
 #: level, which follows the operator at every solve. Contacts that start or stop sliding
 #: (their edge goes to or from zero, at nearly every update with friction) never count: the
 #: hierarchy is built with every sliding contact stuck
-#: (:func:`porenet.kernels.mechanics.multigrid.remember_stuck`), and only the finest level
+#: (:func:`porenet.kernels.mechanics.multigrid_drift.remember_stuck`), and only the finest level
 #: sees them.
 REBUILD_DRIFT = 0.5
 REBUILD_EDGES = 32
@@ -85,7 +86,7 @@ class GridSolver:
         m = layout.size
         self._operators = operators(m)
         self._hierarchies: list[mg.Hierarchy | None] = [None, None]
-        # the operators with every sliding contact stuck (mg.remember_stuck), and those the
+        # the operators with every sliding contact stuck (drift.remember_stuck), and those the
         # hierarchies were built from (stuck, at the build)
         self._stuck = operators(m)
         self._built_from = operators(m)
@@ -130,11 +131,14 @@ class GridSolver:
     def _field(self, axis: int) -> tuple[int, bool, int]:
         """Solve one component: (V-cycles, converged, hierarchies built)."""
         op, stuck = self._operators[axis], self._stuck[axis]
-        held = mg.remember_stuck(op, stuck)
+        held = drift.remember_stuck(op, stuck)
         rebuilt = 0
         hierarchy = self._hierarchies[axis]
         reference = self._built_from[axis]
-        if hierarchy is None or mg.drifted_edges(stuck, reference, REBUILD_DRIFT) > REBUILD_EDGES:
+        drifted = hierarchy is not None and (
+            drift.drifted_edges(stuck, reference, REBUILD_DRIFT) > REBUILD_EDGES
+        )
+        if hierarchy is None or drifted:
             rebuilt += self._build(axis, held)
         else:
             mg.refresh_finest(hierarchy, op)

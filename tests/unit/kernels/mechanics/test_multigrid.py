@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from scipy.sparse.linalg import spsolve
 
 from porenet.kernels.mechanics import multigrid as mg
+from porenet.kernels.mechanics import multigrid_drift as drift
 
 
 def random_operator(m: int, ratio: float, crack: int, seed: int, foundation: float = 0.0):
@@ -193,14 +194,14 @@ def test_drifted_edges_count_opened_contacts_not_sliding_ones():
     update, and rebuilding for them cost more than the V-cycles it saved."""
     built = random_operator(20, 0.5, 0, seed=3)
     op = mg.Operator(built.across_columns.copy(), built.across_rows.copy(), built.diagonal)
-    assert mg.drifted_edges(op, built, 0.5) == 0
+    assert drift.drifted_edges(op, built, 0.5) == 0
     op.across_columns[4, 2:9] = 2e-6  # seven contacts opened
-    assert mg.drifted_edges(op, built, 0.5) == 7
+    assert drift.drifted_edges(op, built, 0.5) == 7
     op.across_rows[5, 0:12] = 0.0  # twelve started sliding
-    assert mg.drifted_edges(op, built, 0.5) == 7
-    assert mg.drifted_edges(built, op, 0.5) == 7  # and stopped
+    assert drift.drifted_edges(op, built, 0.5) == 7
+    assert drift.drifted_edges(built, op, 0.5) == 7  # and stopped
     op.across_rows[6, 0:3] *= 1.2  # small changes: below the threshold
-    assert mg.drifted_edges(op, built, 0.5) == 7
+    assert drift.drifted_edges(op, built, 0.5) == 7
 
 
 def test_remember_stuck_keeps_a_sliding_contacts_last_stiffness():
@@ -211,20 +212,20 @@ def test_remember_stuck_keeps_a_sliding_contacts_last_stiffness():
     op.across_rows[2, 0:4] = 0.0  # sliding from the start: never stuck
     stuck = mg.Operator(np.zeros_like(op.across_columns), np.zeros_like(op.across_rows),
                         np.zeros_like(op.diagonal))  # fmt: skip
-    assert mg.remember_stuck(op, stuck) == 0
+    assert drift.remember_stuck(op, stuck) == 0
     for a, b in zip(stuck, op, strict=True):
         np.testing.assert_array_equal(a, b)
     before = op.across_rows[5, 0:12].copy()
     op.across_rows[5, 0:12] = 0.0  # twelve start sliding
     op.across_columns[4, 2:9] = 2e-6  # seven open: taken as they are
     op.diagonal[:] = 0.2
-    assert mg.remember_stuck(op, stuck) == 12
+    assert drift.remember_stuck(op, stuck) == 12
     np.testing.assert_array_equal(stuck.across_rows[5, 0:12], before)
     np.testing.assert_array_equal(stuck.across_columns, op.across_columns)
     np.testing.assert_array_equal(stuck.diagonal, op.diagonal)
     assert np.all(stuck.across_rows[2, 0:4] == 0.0)
     op.across_rows[5, 0:12] = 1.5 * before  # stuck again, at another stiffness
-    assert mg.remember_stuck(op, stuck) == 0
+    assert drift.remember_stuck(op, stuck) == 0
     np.testing.assert_array_equal(stuck.across_rows, op.across_rows)
 
 
