@@ -64,7 +64,7 @@ from fig5 import LAMBDA, make_scene, shape
 
 from porenet.analysis.features import LONG_RUN, straight_runs
 from porenet.config.loading import load_scene
-from porenet.core.cost import MINDLIN_SLIDING, fracture_weight
+from porenet.core.cost import fracture_weight, sliding_factor
 from porenet.core.errors import ConfigError
 from porenet.io.atomic import atomic_output
 from porenet.io.checkpoint import (
@@ -399,9 +399,9 @@ def write_status(done: dict, args: argparse.Namespace, frictions: list[float | N
     missing one priced at the mean CPU time of the recorded runs at its point (its setting
     and N_f), else at the same sliding and N_f with another K_t/K_n, else (with sliding) at
     the runs without sliding at its K_t/K_n and N_f (or another K_t/K_n) times what the cost
-    model says sliding multiplies an update's cost by (:func:`sliding_factor`), else
-    unknown. With ``--skip-settled`` a seed after the ones that settled its point is listed
-    as settled, neither missing nor priced."""
+    model says sliding multiplies an update's cost by
+    (:func:`porenet.core.cost.sliding_factor`), else unknown. With ``--skip-settled`` a seed
+    after the ones that settled its point is listed as settled, neither missing nor priced."""
 
     def cpu_at(**match: float | str | None) -> list[float]:
         match |= {"n": args.n, "rotation": args.rotation,
@@ -415,7 +415,7 @@ def write_status(done: dict, args: argparse.Namespace, frictions: list[float | N
         if friction is None:
             return None
         cpu = cpu_at(ratio=ratio, friction=None, nf=nf) or cpu_at(friction=None, nf=nf)
-        return statistics.fmean(cpu) * sliding_factor(ratio, nf) if cpu else None
+        return statistics.fmean(cpu) * sliding_factor(ratio, fracture_weight(nf)) if cpu else None
 
     lines = [
         f"The study at n = {args.n} (rotations {args.rotation}{tolerance_label(args)}): the "
@@ -472,12 +472,6 @@ def write_status(done: dict, args: argparse.Namespace, frictions: list[float | N
     args.status.write_text("\n".join([*lines, "", summary]) + "\n")
     print(summary)
     print(f"status: {args.status}")
-
-
-def sliding_factor(ratio: float, nf: float) -> float:
-    """What sliding multiplies a run's cost by, from the cost model (docs/cost.md):
-    ``1 + c r_t w`` with ``w`` the fracture weight of N_f."""
-    return 1.0 + MINDLIN_SLIDING * ratio * fracture_weight(nf)
 
 
 def aggregate(runs: list[dict], **point: float | None) -> dict:

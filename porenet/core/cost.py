@@ -297,6 +297,13 @@ def fracture_weight(nf: float | None, fluid: str = "viscous") -> float:
     return math.log(nf / lo) / math.log(hi / lo)
 
 
+def sliding_factor(stiffness_ratio: float, weight: float) -> float:
+    """What Coulomb sliding multiplies a frictional update's cost by: ``1 + c r_t w``
+    (:data:`MINDLIN_SLIDING`; ``r_t = K_t / K_n``, ``w`` the fracture weight,
+    :func:`fracture_weight`)."""
+    return 1.0 + MINDLIN_SLIDING * stiffness_ratio * weight
+
+
 def adaptive_update_fraction(nf: float | None, tolerance: float = ADAPTIVE_TOLERANCE) -> float:
     """Fraction of fluid steps after which adaptive coupling updates the solid.
 
@@ -477,13 +484,13 @@ def estimate_cost(scene: Any) -> CostEstimate:
     #: and so its steps, change far less with fracturing than the drained count does.
     unfractured = max(1.0, expected)
     w = fracture_weight(nf, fluid.kind) if hertz else 0.0
-    #: What sliding multiplies a frictional update's cost by (:data:`MINDLIN_SLIDING`).
-    slide = 1.0 + MINDLIN_SLIDING * solid.stiffness_ratio * w if sliding else 1.0
+    slide = sliding_factor(solid.stiffness_ratio, w) if sliding else 1.0
     if sliding:
         notes.append(
             f"solid.friction: sliding costed at {slide:.2g}x the mechanics of the same run "
-            "without it (fitted to n = 400 runs: 1.0x below the crossover to 5x at N_f >= 3 "
-            "for K_t/K_n = 0.5, within ~30 %; docs/cost.md)"
+            "without it (fitted to n = 400 runs made before the multigrid's hierarchies of "
+            "the stuck operator, which made sliding cheaper: an overestimate until refitted; "
+            "docs/cost.md)"
         )
     if hertz and fluid.kind == "viscous" and nf is not None and nf > SOFT_NF:
         notes.append(

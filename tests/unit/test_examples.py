@@ -125,12 +125,8 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
 ):
     # with sliding and no run at that N_f yet: the run without sliding times the cost model's
     # factor; with --skip-settled a third seed after two that found the same cross is not due
-    import importlib.util
+    from porenet.core.cost import fracture_weight, sliding_factor
 
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
-    spec = importlib.util.spec_from_file_location("fracture_shear_script", script)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
     cross = {"n": 400, "ratio": 0.5, "friction": None, "rotation": "held", "nf": 10.0,
              "d_f": 1.0111, "drained": 790, "removed": 798, "straight": 398, "segment": 197.0,
              "sliding": 0, "wall": 1100.0}  # fmt: skip
@@ -147,7 +143,7 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
     rows = status.read_text().splitlines()
     assert "| 0.5 | no sliding | 10 | 1,2 | - | 3 | 2200 |  |" in rows  # settled: same cross
     assert "| 0.5 | no sliding | 0.3 | 1,2 | 3 | - | 1800 | 900 |" in rows  # fingers differ
-    factor = module.sliding_factor(0.5, 10.0)
+    factor = sliding_factor(0.5, fracture_weight(10.0))
     assert factor == pytest.approx(5.0)  # 1 + 8 r_t w: fully fracturing at N_f = 10
     assert f"| 0.5 | mu = 0.3 | 10 | - | 1,2,3 | - | 0 | {3 * 1100.0 * factor:.0f} |" in rows
     assert out.startswith("4 of 12 runs done") and "; 1 settled (not run)" in out
