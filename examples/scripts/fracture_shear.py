@@ -63,6 +63,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from fig5 import LAMBDA, make_scene, shape
 
 from porenet.analysis.features import LONG_RUN, straight_runs
+from porenet.cli_checks import check_output_file
 from porenet.config.loading import load_scene
 from porenet.core.cost import fracture_weight, sliding_factor
 from porenet.core.errors import ConfigError
@@ -296,6 +297,14 @@ def main() -> None:
                          "run files)")  # fmt: skip
         try:
             CheckpointSchedule.parse(args.checkpoint_every, "-", "--checkpoint-every")
+        except ConfigError as exc:
+            parser.error(str(exc))
+    outputs = {"--table": args.table, "--out": args.out, "--patterns": args.patterns,
+               "--by-nf": args.by_nf, "--status": args.status}  # fmt: skip
+    for flag, path in outputs.items():
+        try:
+            if path is not None:
+                check_output_file(path, flag)
         except ConfigError as exc:
             parser.error(str(exc))
     if args.runs:

@@ -167,6 +167,20 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
     assert "| no sliding | 10 | 3 | 0.5, 0.8 | 1.011-1.050 | 798 | 789-790 |" in rows
 
 
+@pytest.mark.parametrize("flag", ["--table", "--out", "--patterns", "--by-nf", "--status"])
+def test_fracture_shear_names_an_output_in_a_missing_folder(tmp_path, flag):
+    # before anything runs or is read: the flag and the folder named, no traceback
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    out = subprocess.run([sys.executable, str(script), "--no-run", flag,
+                          str(tmp_path / "missing" / "x.md")],
+                         capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert f"{flag} " in out.stderr and "directory does not exist" in out.stderr
+
+
 def test_fracture_shear_names_a_broken_record_and_runs_nothing(tmp_path):
     # a run killed while its record was written leaves half a line: the study must say where,
     # not append the next record to it or raise a traceback
