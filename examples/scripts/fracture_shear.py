@@ -26,8 +26,11 @@ half written by a killed process, is named with its file and line, and nothing r
 is deleted). Several processes can share a
 study (one records file each, all of them given to the report); ``--no-run`` reports what
 the files hold without running the rest (each row names its seeds). Each record keeps the
-run's CPU time (the table's column) and how many contacts it froze (``frozen``,
-docs/run-file.md's ``frozen_contacts``). ``--status FILE`` runs nothing and writes which
+run's CPU time (the table's column), how many contacts it froze (``frozen``,
+docs/run-file.md's ``frozen_contacts``) and the code that made it (``code``: the commit, with
+``+dirty`` if porenet/ or examples/ had uncommitted changes; :func:`code_version`). The n = 400
+study's records are kept in the repository, docs/data/fracture-shear-n400/
+(docs/fracture-shear-n400.md says why). ``--status FILE`` runs nothing and writes which
 runs of the planned study (``--ratio`` x ``--friction`` x ``--nf`` x ``--seeds``) the records
 hold, which are missing, and the CPU time the missing ones should take (a study at n = 400
 takes several sessions; docs/fracture-shear-n400.md); a missing run with sliding at an N_f
@@ -53,6 +56,7 @@ import argparse
 import itertools
 import json
 import statistics
+import subprocess
 import sys
 import time
 from collections.abc import Iterator
@@ -348,7 +352,7 @@ def main() -> None:
                 out = run_file(args.runs, args.n, setting, nf, seed) if args.runs else None
                 rec = measure(args.n, setting, nf, seed, output=out,
                               checkpoint_every=args.checkpoint_every)  # fmt: skip
-                done[key] = dict(zip(POINT, key, strict=True), **rec)
+                done[key] = dict(zip(POINT, key, strict=True), **rec, code=code_version())
                 if args.records:
                     append_record(args.records[0], done[key])
             runs.append(done[key])
@@ -389,6 +393,23 @@ def settled(runs: list[dict]) -> bool:
         and len({r["removed"] for r in runs}) == 1
         and (max(d_f) - min(d_f) <= SETTLED_D_F)
     )
+
+
+def code_version() -> str:
+    """The code a run is made with, for its record: the commit of the repository this script
+    sits in (``+dirty`` if ``porenet/`` or ``examples/`` differ from it), or ``unknown``
+    outside a git checkout. Runs of different code can differ in round-off (or more, where a
+    solver changed), so a table that mixes them can say so."""
+    here = Path(__file__).resolve().parent
+    try:
+        commit = subprocess.run(["git", "-C", str(here), "rev-parse", "--short=7", "HEAD"],
+                                capture_output=True, text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(here), "status", "--porcelain", "--",
+                                "../../porenet", "../../examples"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return commit + ("+dirty" if dirty else "")
 
 
 def append_record(records: Path, record: dict) -> None:

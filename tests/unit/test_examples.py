@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -86,6 +87,10 @@ def test_fracture_shear_script_runs_and_resumes(tmp_path):
     records.write_text(records.read_text().rstrip("\n"))
     _script("fracture_shear.py", *args[:7], "10", "3", *args[8:])
     assert [json.loads(line)["nf"] for line in records.read_text().splitlines()] == [10.0, 3.0]
+    # each record names the code that made it: a commit (``+dirty`` if porenet/ or examples/
+    # differ from it), or "unknown" outside a git checkout
+    code = json.loads(records.read_text().splitlines()[0])["code"]
+    assert code == "unknown" or re.fullmatch(r"[0-9a-f]{7}(\+dirty)?", code), code
 
 
 def test_fracture_shear_status_lists_the_missing_runs_and_prices_them(tmp_path):
