@@ -505,7 +505,8 @@ def write_status(done: dict, args: argparse.Namespace, frictions: list[float | N
 
 
 def aggregate(runs: list[dict], **point: float | None) -> dict:
-    """Mean and standard deviation over seeds of :data:`KEYS`, and the mean wall time."""
+    """Mean and standard deviation over seeds of :data:`KEYS`, the mean wall and CPU time,
+    the seeds, the most sliding contacts and the codes that made the runs."""
     row = dict(point)
     for key in KEYS:
         values = [r[key] for r in runs]
@@ -515,6 +516,8 @@ def aggregate(runs: list[dict], **point: float | None) -> dict:
     row["cpu"] = statistics.fmean(cpu_of(r) for r in runs)
     row["seeds"] = ",".join(str(r["seed"]) for r in runs)
     row["sliding"] = max(r["sliding"] for r in runs)
+    # the code of each run, in seed order ("-": a record made before records named it)
+    row["code"] = ",".join(dict.fromkeys(r.get("code", "-") for r in runs))
     return row
 
 
@@ -550,13 +553,13 @@ def write_table(rows: list[dict], args: argparse.Namespace) -> None:
         "",
         "| K_t/K_n | sliding | N_f | D_f (mass-radius) | drained pores | springs removed | "
         "longest straight run | mean straight segment | most sliding contacts | CPU (s/run) | "
-        "seeds |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "seeds | code |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     lines += [
         f"| {r['ratio']:g} | {friction_label(r['friction'])} | {r['nf']:g} | {r['d_f']:.3f} +- "
         f"{r['d_f_sd']:.3f} | {r['drained']:.0f} | {r['removed']:.0f} | {r['straight']:.0f} | "
-        f"{r['segment']:.1f} | {r['sliding']} | {r['cpu']:.1f} | {r['seeds']} |"
+        f"{r['segment']:.1f} | {r['sliding']} | {r['cpu']:.1f} | {r['seeds']} | {r['code']} |"
         for r in rows
     ]
     args.table.write_text("\n".join(lines) + "\n")
