@@ -23,23 +23,27 @@ running them again (a study at n = 400 costs 5-40 min a run).
 Every run is appended to ``--records`` (JSON lines) as it ends, and runs already there are
 not repeated: an interrupted study resumes where it stopped (a line that is not a record,
 half written by a killed process, is named with its file and line, and nothing runs until it
-is deleted). Several processes can share a
-study (one records file each, all of them given to the report); ``--no-run`` reports what
-the files hold without running the rest (each row names its seeds). Each record keeps the
-run's CPU time (the table's column), how many contacts it froze (``frozen``,
-docs/run-file.md's ``frozen_contacts``) and the code that made it (``code``: the commit, with
-``+dirty`` if porenet/ or examples/ had uncommitted changes; :func:`code_version`). The n = 400
-study's records are kept in the repository, docs/data/fracture-shear-n400/
-(docs/fracture-shear-n400.md says why). ``--status FILE`` runs nothing and writes which
-runs of the planned study (``--ratio`` x ``--friction`` x ``--nf`` x ``--seeds``) the records
-hold, which are missing, and the CPU time the missing ones should take (a study at n = 400
-takes several sessions; docs/fracture-shear-n400.md); a missing run with sliding at an N_f
-that no run with sliding reached yet is priced at the runs without sliding there times the
-cost model's factor for sliding (docs/cost.md). ``--skip-settled`` runs no third seed at a
-point whose first two found the same pattern (the same springs opened, D_f within
-:data:`SETTLED_D_F`: above the crossover every seed opens the full cross), and ``--status``
-lists such a seed as settled rather than missing. ``--by-nf FILE`` tables every run at each
-N_f and sliding setting together, whatever its K_t/K_n (the study's answer at a glance).
+is deleted). Several processes can share a study (one records file each, all of them given
+to the report); ``--no-run`` reports what the files hold without running the rest (each row
+names its seeds). Each record keeps the run's CPU time (the table's column), how many
+contacts it froze (``frozen``, docs/run-file.md's ``frozen_contacts``) and the code that
+made it (``code``: the commit, with ``+dirty`` if porenet/ or examples/ had uncommitted
+changes; :func:`code_version`). The n = 400 study's records are kept in the repository,
+docs/data/fracture-shear-n400/ (docs/fracture-shear-n400.md says why). ``--status FILE``
+runs nothing and writes which runs of the planned study (``--ratio`` x ``--friction`` x
+``--nf`` x ``--seeds``) the records hold, which are missing, and the CPU time the missing
+ones should take (a study at n = 400 takes several sessions; docs/fracture-shear-n400.md); a
+missing run with sliding at an N_f that no run with sliding reached yet is priced at the
+runs without sliding there times the cost model's factor for sliding (docs/cost.md).
+``--skip-settled`` runs no third seed at a point whose first two found the same pattern (the
+same springs opened, D_f within :data:`fracture_shear_tables.SETTLED_D_F`: above the
+crossover every seed opens the full cross), and ``--status`` lists such a seed as settled
+rather than missing. ``--by-nf FILE`` tables every run at each N_f and sliding setting
+together, whatever its K_t/K_n (the study's answer at a glance). ``--sliding-cost FILE``
+runs nothing and tables every run with sliding beside the same run without it, their CPU
+times' ratio against the cost model's factor for sliding and the model's constant fitted to
+them (docs/cost.md). The reports are written by ``fracture_shear_tables.py`` beside this
+script; this one makes the runs.
 With ``--runs``, ``--checkpoint-every 10m`` writes each run's checkpoint beside its run file
 (docs/run-file.md, "Checkpoints"), and a study restarted after its process was killed
 finishes that run from the checkpoint, with the uninterrupted run's result (the code and
@@ -53,23 +57,35 @@ docs/accuracy.md, "Where the default tolerance lags").
 from __future__ import annotations
 
 import argparse
-import itertools
 import json
-import statistics
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from fig5 import LAMBDA, make_scene, shape
+from fig5 import make_scene, shape
+from fracture_shear_tables import (
+    POINT,
+    RecordError,
+    aggregate,
+    draw,
+    friction_label,
+    line_of,
+    planned,
+    point_key,
+    read_records,
+    settled,
+    write_by_nf,
+    write_sliding_cost,
+    write_status,
+    write_table,
+)
 
 from porenet.analysis.features import LONG_RUN, straight_runs
 from porenet.cli_checks import check_output_file
 from porenet.config.loading import load_scene
-from porenet.core.cost import fracture_weight, sliding_factor
 from porenet.core.errors import ConfigError
 from porenet.io.atomic import atomic_output
 from porenet.io.checkpoint import (
@@ -81,13 +97,6 @@ from porenet.io.checkpoint import (
 )
 from porenet.simulation import Simulation
 from porenet.threads import configure_threads
-
-KEYS = ("d_f", "drained", "removed", "straight", "segment")
-#: ``--skip-settled``: a point's runs found the same pattern when they opened the same number
-#: of springs and their D_f differ by at most this much.
-SETTLED_D_F = 1e-3
-#: What identifies a run in the records.
-POINT = ("n", "ratio", "friction", "rotation", "solver_tolerance", "nf", "seed")
 
 
 def solid_of(ratio: float | None, friction: float | None, rotation: str = "held",
@@ -284,6 +293,11 @@ def main() -> None:
                         help="run nothing: write to this file (markdown) which runs of the "
                         "study that --ratio, --friction, --nf and --seeds plan are in "
                         "--records, which are missing and their CPU time")  # fmt: skip
+    parser.add_argument("--sliding-cost", type=Path,
+                        help="run nothing: write to this file (markdown) every run with "
+                        "sliding in --records beside the same run without it, their CPU "
+                        "times' ratio against the cost model's factor for sliding, and the "
+                        "model's constant fitted to them")  # fmt: skip
     args = parser.parse_args()
     try:
         frictions = [None if f == "none" else float(f) for f in args.friction]
@@ -304,7 +318,8 @@ def main() -> None:
         except ConfigError as exc:
             parser.error(str(exc))
     outputs = {"--table": args.table, "--out": args.out, "--patterns": args.patterns,
-               "--by-nf": args.by_nf, "--status": args.status}  # fmt: skip
+               "--by-nf": args.by_nf, "--status": args.status,
+               "--sliding-cost": args.sliding_cost}  # fmt: skip
     for flag, path in outputs.items():
         try:
             if path is not None:
@@ -314,25 +329,15 @@ def main() -> None:
     if args.runs:
         args.runs.mkdir(parents=True, exist_ok=True)
     configure_threads(args.threads)
-    done = {}
-    for records in args.records or ():
-        if not records.exists():
-            continue
-        for number, line in enumerate(records.read_text().splitlines(), 1):
-            if not line.strip():
-                continue
-            try:
-                rec = {"rotation": "held", "solver_tolerance": None, **json.loads(line)}
-                done[tuple(rec[k] for k in POINT)] = rec
-            except (json.JSONDecodeError, TypeError, KeyError) as exc:
-                why = (exc.msg if isinstance(exc, json.JSONDecodeError)
-                       else f"no {exc.args[0]!r} field" if isinstance(exc, KeyError)
-                       else "not a JSON object")  # fmt: skip
-                parser.error(f"{records}, line {number}: not a run's record ({why}); a "
-                             "process killed while writing leaves such a line: delete it, "
-                             "and its run is made again")  # fmt: skip
+    try:
+        done = read_records(args.records or [])
+    except RecordError as exc:
+        parser.error(str(exc))
     if args.status:
         write_status(done, args, frictions)
+    if args.sliding_cost:
+        write_sliding_cost(done, args.sliding_cost)
+    if args.status or args.sliding_cost:
         return
     rows, used = [], []
     for ratio, friction, nf in planned(args, frictions):
@@ -373,40 +378,21 @@ def main() -> None:
         print(f"figure: {args.patterns}")
 
 
-def planned(args: argparse.Namespace, frictions: list[float | None]) -> Iterator[tuple]:
-    """The study's points, (K_t/K_n, friction, N_f), in the order of its tables."""
-    return itertools.product(args.ratio, frictions, args.nf)
-
-
-def point_key(args: argparse.Namespace, ratio: float, friction: float | None, nf: float,
-              seed: int) -> tuple:  # fmt: skip
-    """A run's identity in the records (the fields of :data:`POINT`)."""
-    return (args.n, ratio, friction, args.rotation, args.solver_tolerance, nf, seed)
-
-
-def settled(runs: list[dict]) -> bool:
-    """Whether a point's runs (two or more seeds) found the same pattern: the same number of
-    springs opened and D_f within :data:`SETTLED_D_F` (``--skip-settled``)."""
-    d_f = [r["d_f"] for r in runs]
-    return (
-        len(runs) >= 2
-        and len({r["removed"] for r in runs}) == 1
-        and (max(d_f) - min(d_f) <= SETTLED_D_F)
-    )
-
-
 def code_version() -> str:
     """The code a run is made with, for its record: the commit of the repository this script
     sits in (``+dirty`` if ``porenet/`` or ``examples/`` differ from it), or ``unknown``
     outside a git checkout. Runs of different code can differ in round-off (or more, where a
     solver changed), so a table that mixes them can say so."""
     here = Path(__file__).resolve().parent
+
+    def git(*args: str) -> str:
+        out = subprocess.run(["git", "-C", str(here), *args], capture_output=True, text=True,
+                             check=True)  # fmt: skip
+        return out.stdout.strip()
+
     try:
-        commit = subprocess.run(["git", "-C", str(here), "rev-parse", "--short=7", "HEAD"],
-                                capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(here), "status", "--porcelain", "--",
-                                "../../porenet", "../../examples"],
-                               capture_output=True, text=True, check=True).stdout.strip()
+        commit = git("rev-parse", "--short=7", "HEAD")
+        dirty = git("status", "--porcelain", "--", "../../porenet", "../../examples")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
     return commit + ("+dirty" if dirty else "")
@@ -422,207 +408,6 @@ def append_record(records: Path, record: dict) -> None:
             ends = f.read(1) == b"\n"
     with records.open("a") as f:
         f.write(("" if ends else "\n") + json.dumps(record) + "\n")
-
-
-def write_status(done: dict, args: argparse.Namespace, frictions: list[float | None]) -> None:
-    """``--status``: the planned study's runs found in the records and those missing, each
-    missing one priced at the mean CPU time of the recorded runs at its point (its setting
-    and N_f), else at the same sliding and N_f with another K_t/K_n, else (with sliding) at
-    the runs without sliding at its K_t/K_n and N_f (or another K_t/K_n) times what the cost
-    model says sliding multiplies an update's cost by
-    (:func:`porenet.core.cost.sliding_factor`), else unknown. With ``--skip-settled`` a seed
-    after the ones that settled its point is listed as settled, neither missing nor priced."""
-
-    def cpu_at(**match: float | str | None) -> list[float]:
-        match |= {"n": args.n, "rotation": args.rotation,
-                  "solver_tolerance": args.solver_tolerance}  # fmt: skip
-        return [cpu_of(r) for r in done.values() if all(r[k] == v for k, v in match.items())]
-
-    def price(ratio: float, friction: float | None, nf: float) -> float | None:
-        cpu = cpu_at(ratio=ratio, friction=friction, nf=nf) or cpu_at(friction=friction, nf=nf)
-        if cpu:
-            return statistics.fmean(cpu)
-        if friction is None:
-            return None
-        cpu = cpu_at(ratio=ratio, friction=None, nf=nf) or cpu_at(friction=None, nf=nf)
-        return statistics.fmean(cpu) * sliding_factor(ratio, fracture_weight(nf)) if cpu else None
-
-    lines = [
-        f"The study at n = {args.n} (rotations {args.rotation}{tolerance_label(args)}): the "
-        "runs that --ratio, --friction, --nf and --seeds plan, those in the records and the "
-        "CPU time of those missing (`python examples/scripts/fracture_shear.py --status`; a "
-        "missing run is priced at its point's recorded mean, else at the same sliding and "
-        "N_f with another K_t/K_n, else with sliding at the runs without it times the cost "
-        "model's factor for sliding, docs/cost.md; one thread a run"
-        + (
-            "; a seed after two that found the same pattern is settled, not run"
-            if args.skip_settled
-            else ""
-        )
-        + ").",
-        "",
-        "| K_t/K_n | sliding | N_f | seeds done | seeds missing | seeds settled | CPU done (s) "
-        "| CPU missing (s, estimate) |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
-    spent = todo = 0.0
-    n_done = n_missing = n_settled = unpriced = 0
-    for ratio, friction, nf in planned(args, frictions):
-        have, missing, skipped, here = [], [], [], 0.0
-        for seed in args.seeds:
-            key = point_key(args, ratio, friction, nf, seed)
-            runs = [done[point_key(args, ratio, friction, nf, s)] for s in have]
-            if key in done:
-                have.append(seed)
-                here += cpu_of(done[key])
-            elif args.skip_settled and settled(runs):
-                skipped.append(seed)
-            else:
-                missing.append(seed)
-        each = price(ratio, friction, nf) if missing else None
-        cost = each * len(missing) if each is not None else 0.0
-        if missing and each is None:
-            unpriced += len(missing)
-        spent += here
-        todo += cost
-        n_done, n_missing = n_done + len(have), n_missing + len(missing)
-        n_settled += len(skipped)
-        estimate = "unknown" if missing and each is None else f"{cost:.0f}" if missing else ""
-        lines.append(
-            f"| {ratio:g} | {friction_label(friction)} | {nf:g} | "
-            f"{','.join(map(str, have)) or '-'} | {','.join(map(str, missing)) or '-'} "
-            f"| {','.join(map(str, skipped)) or '-'} | {here:.0f} | {estimate} |"
-        )
-    summary = (
-        f"{n_done} of {n_done + n_missing + n_settled} runs done ({spent / 3600:.1f} h of CPU); "
-        f"{n_missing} missing, ~{todo / 3600:.1f} h of CPU"
-        + (f" plus {unpriced} with no recorded run to price them by" if unpriced else "")
-        + (f"; {n_settled} settled (not run)" if n_settled else "")
-    )
-    args.status.write_text("\n".join([*lines, "", summary]) + "\n")
-    print(summary)
-    print(f"status: {args.status}")
-
-
-def aggregate(runs: list[dict], **point: float | None) -> dict:
-    """Mean and standard deviation over seeds of :data:`KEYS`, the mean wall and CPU time,
-    the seeds, the most sliding contacts and the codes that made the runs."""
-    row = dict(point)
-    for key in KEYS:
-        values = [r[key] for r in runs]
-        row[key] = statistics.fmean(values)
-        row[key + "_sd"] = statistics.pstdev(values) if len(values) > 1 else 0.0
-    row["wall"] = statistics.fmean(r["wall"] for r in runs)
-    row["cpu"] = statistics.fmean(cpu_of(r) for r in runs)
-    row["seeds"] = ",".join(str(r["seed"]) for r in runs)
-    row["sliding"] = max(r["sliding"] for r in runs)
-    # the code of each run, in seed order ("-": a record made before records named it)
-    row["code"] = ",".join(dict.fromkeys(r.get("code", "-") for r in runs))
-    return row
-
-
-def cpu_of(record: dict) -> float:
-    """A run's CPU time (s); its wall time in records made before CPU time was kept (one
-    thread: the same unless the run was paused or shared a core)."""
-    return record.get("cpu", record["wall"])
-
-
-def friction_label(friction: float | None) -> str:
-    return "no sliding" if friction is None else f"mu = {friction:g}"
-
-
-def line_of(r: dict) -> str:
-    return (f"K_t/K_n {r['ratio']:<4g} {friction_label(r['friction']):<10} N_f {r['nf']:<5g} "
-            f"D_f {r['d_f']:.3f} +- {r['d_f_sd']:.3f}  drained {r['drained']:7.0f}  removed "
-            f"{r['removed']:6.0f}  straight {r['straight']:5.0f}  segment {r['segment']:5.1f}  "
-            f"{r['wall']:6.1f} s/run  seeds {r['seeds']}")  # fmt: skip
-
-
-def tolerance_label(args: argparse.Namespace) -> str:
-    """``, solver_tolerance T a`` when ``--solver-tolerance`` is given, else nothing."""
-    tol = args.solver_tolerance
-    return "" if tol is None else f", solver_tolerance {tol:g} a"
-
-
-def write_table(rows: list[dict], args: argparse.Namespace) -> None:
-    lines = [
-        f"n = {args.n}, lambda = {LAMBDA}, Ca* = 10, solid kind hertz-mindlin (rotations "
-        f"{args.rotation}{tolerance_label(args)}), to breakthrough; mean +- standard "
-        "deviation over the seeds of each row, CPU time of one run on one thread (`python "
-        "examples/scripts/fracture_shear.py`).",
-        "",
-        "| K_t/K_n | sliding | N_f | D_f (mass-radius) | drained pores | springs removed | "
-        "longest straight run | mean straight segment | most sliding contacts | CPU (s/run) | "
-        "seeds | code |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    lines += [
-        f"| {r['ratio']:g} | {friction_label(r['friction'])} | {r['nf']:g} | {r['d_f']:.3f} +- "
-        f"{r['d_f_sd']:.3f} | {r['drained']:.0f} | {r['removed']:.0f} | {r['straight']:.0f} | "
-        f"{r['segment']:.1f} | {r['sliding']} | {r['cpu']:.1f} | {r['seeds']} | {r['code']} |"
-        for r in rows
-    ]
-    args.table.write_text("\n".join(lines) + "\n")
-    print(f"table: {args.table}")
-
-
-def write_by_nf(runs: list[dict], args: argparse.Namespace) -> None:
-    """``--by-nf``: the runs of every K_t/K_n together, per sliding setting and N_f: whether
-    any setting comes near a D_f, whatever its stiffness ratio."""
-
-    def span(values: list[float], digits: int) -> str:
-        lo, hi = min(values), max(values)
-        return f"{lo:.{digits}f}" if lo == hi else f"{lo:.{digits}f}-{hi:.{digits}f}"
-
-    lines = [
-        f"n = {args.n} (rotations {args.rotation}{tolerance_label(args)}): every run of the "
-        "records at each N_f, all K_t/K_n together, one line per sliding setting (`python "
-        "examples/scripts/fracture_shear.py --by-nf`).",
-        "",
-        "| sliding | N_f | runs | K_t/K_n | D_f (lowest-highest) | springs opened | drained "
-        "pores |",
-        "|---|---|---|---|---|---|---|",
-    ]
-    settings = sorted({(r["friction"] is not None, r["friction"] or 0.0, r["nf"]) for r in runs})
-    for sliding, friction, nf in settings:
-        here = [r for r in runs if (r["friction"] is not None) == sliding
-                and (r["friction"] or 0.0) == friction and r["nf"] == nf]  # fmt: skip
-        ratios = ", ".join(f"{x:g}" for x in sorted({r["ratio"] for r in here}))
-        lines.append(
-            f"| {friction_label(here[0]['friction'])} | {nf:g} | {len(here)} | {ratios} | "
-            f"{span([r['d_f'] for r in here], 3)} | {span([r['removed'] for r in here], 0)} | "
-            f"{span([r['drained'] for r in here], 0)} |"
-        )
-    args.by_nf.write_text("\n".join(lines) + "\n")
-    print(f"table: {args.by_nf}")
-
-
-def draw(rows: list[dict], n: int, out: Path) -> None:
-    """D_f against N_f, one curve per stiffness ratio, one panel per sliding setting."""
-    from matplotlib.figure import Figure
-
-    from porenet.viz.pattern import save_figure
-
-    frictions = list(dict.fromkeys(r["friction"] for r in rows))
-    fig = Figure(figsize=(4.5 * len(frictions), 3.6), dpi=130, layout="constrained")
-    axes = fig.subplots(1, len(frictions), sharey=True, squeeze=False)[0]
-    for ax, friction in zip(axes, frictions, strict=True):
-        for i, ratio in enumerate(dict.fromkeys(r["ratio"] for r in rows)):
-            mine = [r for r in rows if r["ratio"] == ratio and r["friction"] == friction]
-            ax.errorbar([r["nf"] for r in mine], [r["d_f"] for r in mine],
-                        yerr=[r["d_f_sd"] for r in mine], marker="o", ms=4, capsize=2,
-                        color=f"C{i}", label=f"K_t/K_n = {ratio:g}")  # fmt: skip
-        for value, name in ((1.43, "FR (paper)"), (1.64, "VF (paper)")):
-            ax.axhline(value, color="k", lw=0.6, ls=":")
-            ax.annotate(name, (0.02, value), xycoords=("axes fraction", "data"), fontsize=7,
-                        xytext=(0, 2), textcoords="offset points")  # fmt: skip
-        ax.set_xscale("log")
-        ax.set_xlabel("fracturing number N_f")
-        ax.set_title(friction_label(friction), fontsize=9)
-    axes[0].set_ylabel("D_f (mass-radius)")
-    axes[0].legend(fontsize=7, loc="lower left")
-    fig.suptitle(f"Fig. 5's scene at n = {n} with hertz-mindlin contacts", fontsize=10)
-    save_figure(fig, out)
 
 
 def draw_patterns(args: argparse.Namespace, frictions: list[float | None]) -> None:

@@ -172,7 +172,51 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
     assert "| no sliding | 10 | 3 | 0.5, 0.8 | 1.011-1.050 | 798 | 789-790 |" in rows
 
 
-@pytest.mark.parametrize("flag", ["--table", "--out", "--patterns", "--by-nf", "--status"])
+def test_fracture_shear_sliding_cost_pairs_runs_and_fits_the_cost_model(tmp_path):
+    # each run with sliding beside the same point and seed without it; the constant c of
+    # 1 + c r_t w fitted as the median over the pairs above the crossover
+    from porenet.core.cost import MINDLIN_SLIDING
+
+    run = {"n": 400, "rotation": "held", "d_f": 1.01, "drained": 790, "removed": 798,
+           "straight": 398, "segment": 197.0, "sliding": 0, "wall": 1.0}  # fmt: skip
+    lines = [
+        run | {"ratio": 0.1, "friction": None, "nf": 10.0, "seed": 1, "cpu": 1000.0},
+        run
+        | {
+            "ratio": 0.1,
+            "friction": 0.3,
+            "nf": 10.0,
+            "seed": 1,
+            "cpu": 1200.0,
+            "code": "abc1234",
+        },
+        run | {"ratio": 0.8, "friction": None, "nf": 3.0, "seed": 1, "cpu": 500.0},
+        run | {"ratio": 0.8, "friction": 0.3, "nf": 3.0, "seed": 1, "cpu": 1300.0},
+        run | {"ratio": 0.8, "friction": None, "nf": 0.1, "seed": 1, "cpu": 800.0},
+        run | {"ratio": 0.8, "friction": 0.3, "nf": 0.1, "seed": 1, "cpu": 840.0},
+        run | {"ratio": 0.5, "friction": 0.3, "nf": 1.0, "seed": 1, "cpu": 900.0},  # alone
+    ]
+    records, out = tmp_path / "r.jsonl", tmp_path / "cost.md"
+    records.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    printed = _script("fracture_shear.py", "--records", str(records), "--sliding-cost", str(out))
+    rows = out.read_text().splitlines()
+    model = 1 + MINDLIN_SLIDING * 0.1
+    assert (
+        f"| 400 | 0.1 | mu = 0.3 | 10 | 1 | 1000 | 1200 | 1.20 | {model:.2f} | -, abc1234 |" in rows
+    )
+    assert "| 400 | 0.8 | mu = 0.3 | 0.1 | 1 | 800 | 840 | 1.05 | 1.00 | -, - |" in rows
+    assert sum(row.startswith("| 400 |") for row in rows) == 3  # the lone run has no pair
+    # c = median((1.2 - 1) / 0.1, (2.6 - 1) / 0.8) = median(2, 2); N_f 0.1 (w = 0) not fitted
+    assert (
+        "3 pairs; above the crossover (w > 0) the median of (ratio - 1) / (K_t/K_n w) "
+        "over 2: c = 2.00" in printed
+    )
+    assert records.read_text().count("\n") == len(lines)  # nothing ran
+
+
+@pytest.mark.parametrize(
+    "flag", ["--table", "--out", "--patterns", "--by-nf", "--status", "--sliding-cost"]
+)
 def test_fracture_shear_names_an_output_in_a_missing_folder(tmp_path, flag):
     # before anything runs or is read: the flag and the folder named, no traceback
     import subprocess
