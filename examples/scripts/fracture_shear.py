@@ -86,6 +86,7 @@ from fracture_shear_tables import (
 from porenet.analysis.features import LONG_RUN, straight_runs
 from porenet.cli_checks import check_output_file
 from porenet.config.loading import load_scene
+from porenet.core.cost import estimate_cost
 from porenet.core.errors import ConfigError
 from porenet.io.atomic import atomic_output
 from porenet.io.checkpoint import (
@@ -336,7 +337,7 @@ def main() -> None:
     if args.status:
         write_status(done, args, frictions)
     if args.sliding_cost:
-        write_sliding_cost(done, args.sliding_cost)
+        write_sliding_cost(done, args.sliding_cost, model_sliding_ratio)
     if args.status or args.sliding_cost:
         return
     rows, used = [], []
@@ -376,6 +377,19 @@ def main() -> None:
     if args.patterns:
         draw_patterns(args, frictions)
         print(f"figure: {args.patterns}")
+
+
+def model_sliding_ratio(record: dict) -> float:
+    """What the cost model (``porenet plan``, docs/cost.md) estimates a recorded run with
+    sliding to cost over the same run without: its wall-time estimates of the two scenes."""
+
+    def wall(friction: float | None) -> float:
+        setting = solid_of(record["ratio"], friction, record["rotation"],
+                           record["solver_tolerance"])  # fmt: skip
+        scene = make_scene(record["n"], record["nf"], seed=record["seed"], solid=setting)
+        return estimate_cost(load_scene(scene)).wall_seconds
+
+    return wall(record["friction"]) / wall(None)
 
 
 def code_version() -> str:

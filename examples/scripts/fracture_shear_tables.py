@@ -15,7 +15,7 @@ import argparse
 import itertools
 import json
 import statistics
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from fig5 import LAMBDA
@@ -291,13 +291,17 @@ def read_records(paths: list[Path]) -> dict[tuple, dict]:
     return done
 
 
-def write_sliding_cost(done: dict[tuple, dict], out: Path) -> None:
+def write_sliding_cost(done: dict[tuple, dict], out: Path,
+                       model_ratio: Callable[[dict], float]) -> None:  # fmt: skip
     """``--sliding-cost``: every run with sliding beside the run without it at the same
     point and seed (same n, K_t/K_n, rotation, solver tolerance, N_f): their CPU times, the
-    ratio, the cost model's factor for sliding (:func:`porenet.core.cost.sliding_factor`)
-    and the codes that made the two. Below the table, the cost model's constant fitted to
-    the pairs above the crossover (fracture weight w > 0): the c that keeps the model
-    closest to the worst of them (:func:`fit_sliding_constant`)."""
+    ratio, what the cost model estimates that ratio to be (``model_ratio(record)``: its
+    whole-run estimate with sliding over the one without, of which only the mechanics carry
+    the factor ``1 + c sqrt(K_t/K_n) w``, :func:`porenet.core.cost.sliding_factor`) and the
+    codes that made the two. Below the table, the constant ``c`` fitted to the pairs the model
+    says sliding makes dearer (above the crossover): the model's ratio is ``1 + c x`` with
+    ``x`` from its ratio at today's constant, and the c that keeps the worst pair closest is
+    :func:`fit_sliding_constant`'s."""
     pairs = []
     for rec in done.values():
         if rec["friction"] is None:
@@ -310,7 +314,8 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path) -> None:
     lines = [
         "Each run with sliding beside the same run without it (same point and seed; `python "
         "examples/scripts/fracture_shear.py --sliding-cost`): CPU time of one thread, their "
-        "ratio and the cost model's factor for sliding, `1 + c K_t/K_n w` (docs/cost.md, "
+        "ratio and the cost model's estimate of it (`porenet plan`'s wall time with sliding "
+        "over without; only the mechanics carry the factor `1 + c sqrt(K_t/K_n) w`, docs/cost.md, "
         f"c = {MINDLIN_SLIDING:g}); code: the commits that made the two runs ('-': a record "
         "made before records named it).",
         "",
@@ -320,20 +325,21 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path) -> None:
     ]
     fits = []
     for slide, stick in pairs:
-        ratio = cpu_of(slide) / cpu_of(stick)
-        w = fracture_weight(slide["nf"])
-        if w > 0:
-            fits.append((slide["ratio"] * w, ratio))
+        ratio, model = cpu_of(slide) / cpu_of(stick), model_ratio(slide)
+        if model > 1:
+            fits.append(((model - 1) / MINDLIN_SLIDING, ratio))
         lines.append(
             f"| {slide['n']} | {slide['ratio']:g} | {friction_label(slide['friction'])} | "
             f"{slide['nf']:g} | {slide['seed']} | {cpu_of(stick):.0f} | {cpu_of(slide):.0f} | "
-            f"{ratio:.2f} | {sliding_factor(slide['ratio'], w):.2f} | "
+            f"{ratio:.2f} | {model:.2f} | "
             f"{stick.get('code', '-')}, {slide.get('code', '-')} |"
         )
     if fits:
         c, worst = fit_sliding_constant(fits)
-        summary = (f"{len(pairs)} pairs; fitted to the {len(fits)} above the crossover (w > 0): "
-                   f"c = {c:.2f}, every pair within {worst:.2f}x of 1 + c K_t/K_n w")  # fmt: skip
+        summary = (
+            f"{len(pairs)} pairs; c fitted to the {len(fits)} above the crossover: c = "
+            f"{c:.2f}, every one within {worst:.2f}x of the model's estimate"
+        )
     else:
         summary = f"{len(pairs)} pairs; none above the crossover to fit c by"
     out.write_text("\n".join([*lines, "", summary]) + "\n")
@@ -342,12 +348,12 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path) -> None:
 
 
 def fit_sliding_constant(points: list[tuple[float, float]]) -> tuple[float, float]:
-    """The constant ``c >= 0`` of the cost model's sliding factor ``1 + c x`` (``x = K_t/K_n
-    w``) that makes the largest factor between model and measurement over ``points``
-    (``(x, measured ratio)``) smallest, and that factor: an estimate for planning runs should
-    be off by as little as possible at its worst, not on average. Found by scanning ``c`` in
-    steps of 0.01 up to twice the largest single-point fit (the worst factor is piecewise
-    monotone in ``c``, so the scan is within a step of the optimum)."""
+    """The constant ``c >= 0`` of the cost model's sliding ratio ``1 + c x`` that makes the
+    largest factor between model and measurement over ``points`` (``(x, measured ratio)``)
+    smallest, and that factor: an estimate for planning runs should be off by as little as
+    possible at its worst, not on average. Found by scanning ``c`` in steps of 0.01 up to twice the
+    largest single-point fit (the worst factor is piecewise monotone in ``c``, so the scan
+    is within a step of the optimum)."""
 
     def worst(c: float) -> float:
         return max(max(m / (1 + c * x), (1 + c * x) / m) for x, m in points)
