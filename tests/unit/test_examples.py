@@ -232,6 +232,207 @@ def test_fracture_shear_sliding_cost_pairs_runs_and_fits_the_cost_model(tmp_path
     assert records.read_text().count("\n") == len(lines)  # nothing ran
 
 
+@pytest.mark.parametrize(
+    "flag", ["--table", "--out", "--patterns", "--by-nf", "--status", "--sliding-cost"]
+)
+def test_fracture_shear_names_an_output_in_a_missing_folder(tmp_path, flag):
+    # before anything runs or is read: the flag and the folder named, no traceback
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    out = subprocess.run([sys.executable, str(script), "--no-run", flag,
+                          str(tmp_path / "missing" / "x.md")],
+                         capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert f"{flag} " in out.stderr and "directory does not exist" in out.stderr
+
+
+def test_fracture_shear_names_a_broken_record_and_runs_nothing(tmp_path):
+    # a run killed while its record was written leaves half a line: the study must say where,
+    # not append the next record to it or raise a traceback
+    import subprocess
+    import sys
+
+    records, status = tmp_path / "r.jsonl", tmp_path / "status.md"
+    records.write_text('\n{"n": 400, "ratio": 0.5, "fric')
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    out = subprocess.run([sys.executable, str(script), "--records", str(records), "--status",
+                          str(status)], capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert f"{records}, line 2: not a run's record (Unterminated string" in out.stderr
+    assert not status.exists() and records.read_text().count("\n") == 1
+
+
+def test_fracture_shear_keeps_run_files_and_draws_patterns_from_them(tmp_path):
+    runs, figure = tmp_path / "runs", tmp_path / "patterns.png"
+    args = ["--n", "12", "--ratio", "0.5", "--friction", "none", "--nf", "10", "--seeds", "1",
+            "--records", str(tmp_path / "r.jsonl"), "--runs", str(runs)]  # fmt: skip
+    first = _script("fracture_shear.py", *args)
+    kept = runs / "n12-mindlin-r0.5-stick-held-nf10-s1.h5"
+    assert kept.exists() and "D_f" in first
+    # the pattern of the recorded run is read, not run again; the two hertz panels are run
+    # (and kept) because they are not there yet
+    out = _script("fracture_shear.py", *args, "--no-run", "--patterns", str(figure))
+    assert f"pattern from {kept}" in out and figure.exists()
+    assert sorted(p.name for p in runs.iterdir()) == [
+        "n12-hertz-kf0.02-nf10-s1.h5",
+        "n12-hertz-nf10-s1.h5",
+        kept.name,
+    ]
+
+
+def _crashed_run(runs: Path, nf: float, point_nf: float) -> Path:
+    """The checkpoint a study process killed mid-run leaves for the point (n = 16, K_t/K_n =
+    0.5 with sliding, seed 1, N_f ``point_nf``), written by a run of Fig. 5's scene at
+    ``nf`` stopped after a third of its drained pores; returns the checkpoint's path."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    from fig5 import make_scene
+
+    from porenet.io.checkpoint import checkpoint_path
+    from porenet.simulation import Simulation
+    from porenet.testing.runs import Killed, KilledAfterCheckpoint
+
+    solid = {"kind": "hertz-mindlin", "shear_stiffness_ratio": 0.5, "rotation": "held",
+             "friction": 0.3}  # fmt: skip
+    scene = make_scene(16, nf, seed=1, solid=solid)
+    drained = Simulation.from_scene(scene).run().summary["n_drained"]
+    runs.mkdir()
+    output = runs / f"n16-mindlin-r0.5-mu0.3-held-nf{point_nf:g}-s1.h5"
+    path = checkpoint_path(output)
+    with pytest.raises(Killed):
+        Simulation.from_scene(scene, output=output).run(
+            KilledAfterCheckpoint(path, every_drained=max(drained // 3, 1))
+        )
+    return path
+
+
+def test_fracture_shear_resumes_a_killed_run_from_its_checkpoint(tmp_path):
+    # a run at n = 400 takes hours: a study process killed mid-run (a session's end) leaves
+    # the run's checkpoint, and the restarted study finishes that run from it, with the
+    # uninterrupted run's result and the CPU time of both parts
+    runs = tmp_path / "runs"
+    path = _crashed_run(runs, 10.0, 10.0)
+    path.with_name(path.name + ".cpu").write_text(json.dumps({"cpu_s": 1000.0}))
+    point = ["--n", "16", "--ratio", "0.5", "--friction", "0.3", "--nf", "10", "--seeds", "1"]
+    out = _script("fracture_shear.py", *point, "--records", str(tmp_path / "resumed.jsonl"),
+                  "--runs", str(runs), "--checkpoint-every", "1")  # fmt: skip
+    assert "resuming n16-mindlin-r0.5-mu0.3-held-nf10-s1.h5 at " in out
+    assert "(1000 s of CPU before)" in out
+    assert sorted(p.name for p in runs.iterdir()) == [path.name.removesuffix(".checkpoint")]
+    _script("fracture_shear.py", *point, "--records", str(tmp_path / "straight.jsonl"))
+    resumed, straight = (json.loads((tmp_path / name).read_text())
+                         for name in ("resumed.jsonl", "straight.jsonl"))  # fmt: skip
+    for key in ("d_f", "drained", "removed", "straight", "segment", "updates", "sliding",
+                "frozen", "residual"):  # fmt: skip
+        assert resumed[key] == straight[key], key
+    assert resumed["cpu"] > 1000.0 > straight["cpu"]
+
+
+def test_fracture_shear_resumes_past_a_damaged_cpu_record(tmp_path):
+    # the CPU file beside a checkpoint is the script's own, written atomically; one damaged
+    # by hand is named and the run still resumes, its record counting this process's CPU
+    import subprocess
+    import sys
+
+    runs = tmp_path / "runs"
+    path = _crashed_run(runs, 10.0, 10.0)
+    cpu_file = path.with_name(path.name + ".cpu")
+    cpu_file.write_text('{"cpu_s": ')
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--n", "16", "--ratio", "0.5", "--friction", "0.3",
+         "--nf", "10", "--seeds", "1", "--records", str(tmp_path / "r.jsonl"), "--runs",
+         str(runs)],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert out.returncode == 0 and "Traceback" not in out.stderr, out.stderr
+    assert f"{cpu_file}: not a CPU time record" in out.stderr
+    assert "(0 s of CPU before)" in out.stdout and not cpu_file.exists()
+
+
+def test_fracture_shear_refuses_a_checkpoint_of_another_scene(tmp_path):
+    # a checkpoint at a point's place that holds another scene (here N_f = 3 where N_f = 10
+    # belongs) is named and left alone, and nothing is recorded
+    import subprocess
+    import sys
+
+    runs, records = tmp_path / "runs", tmp_path / "r.jsonl"
+    path = _crashed_run(runs, 3.0, 10.0)
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    out = subprocess.run(
+        [sys.executable, str(script), "--n", "16", "--ratio", "0.5", "--friction", "0.3",
+         "--nf", "10", "--seeds", "1", "--records", str(records), "--runs", str(runs)],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert f"{path}: cannot resume this run from it (it holds another scene" in out.stderr
+    assert path.exists() and not records.exists()
+
+
+def test_fracture_shear_checkpoints_need_run_files(tmp_path):
+    import subprocess
+    import sys
+
+    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    for extra, message in ((["--checkpoint-every", "10m"], "--checkpoint-every needs --runs"),
+                           (["--runs", str(tmp_path), "--checkpoint-every", "soon"],
+                            "--checkpoint-every 'soon': give a duration")):  # fmt: skip
+        out = subprocess.run([sys.executable, str(script), "--n", "16", *extra],
+                             capture_output=True, text=True, timeout=300)  # fmt: skip
+        assert out.returncode == 2 and "Traceback" not in out.stderr
+        assert message in out.stderr
+
+
+def test_fracture_shear_solver_tolerance_is_part_of_a_runs_identity(tmp_path):
+    # the study's scene at another solver tolerance is another run: recorded beside the
+    # default's, its run file named after it, and the table says which tolerance it used
+    records, runs, table = tmp_path / "r.jsonl", tmp_path / "runs", tmp_path / "t.md"
+    args = ["--n", "12", "--ratio", "0.5", "--friction", "none", "--nf", "10", "--seeds", "1",
+            "--records", str(records), "--runs", str(runs)]  # fmt: skip
+    _script("fracture_shear.py", *args)
+    _script("fracture_shear.py", *args, "--solver-tolerance", "1e-3", "--table", str(table))
+    recs = [json.loads(line) for line in records.read_text().splitlines()]
+    assert [r["solver_tolerance"] for r in recs] == [None, 1e-3]
+    assert sorted(p.name for p in runs.iterdir()) == [
+        "n12-mindlin-r0.5-stick-held-nf10-s1.h5",
+        "n12-mindlin-r0.5-stick-held-tol0.001-nf10-s1.h5",
+    ]
+    assert "(rotations held, solver_tolerance 0.001 a)" in table.read_text()
+    again = _script("fracture_shear.py", *args, "--solver-tolerance", "1e-3")  # recorded
+    assert len(records.read_text().splitlines()) == 2 and "D_f" in again
+
+
+def test_crack_tip_opening_finds_the_straight_ahead_opening_of_an_elastic_medium():
+    # docs/paper.md, "Frictional contacts": the chain opens only the throat ahead of the tip,
+    # a shear-stiff medium opens the crack's line further ahead, more on a larger lattice
+    rows = {}
+    for line in _script("crack_tip_opening.py", "--n", "17", "25", "--length", "3").splitlines():
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        if len(cells) == 6 and cells[1].isdigit():
+            rows[(cells[0], int(cells[1]))] = int(cells[5])
+    assert rows[("hertz (the paper's model)", 17)] == rows[("hertz (the paper's model)", 25)] == 1
+    for ratio in ("0.1", "0.8"):
+        label = f"hertz-mindlin, K_t/K_n = {ratio}"
+        assert 1 < rows[(label, 17)] < rows[(label, 25)]
+
+
+def test_carried_imbalance_comes_from_the_tolerances():
+    # docs/accuracy.md, "With sliding": solved tightly and every change of sliding mode solved
+    # again, the force left out of balance is the solver's round-off; a slip tolerance of 1e-2 a
+    # carries up to 4 K_t delta a particle (K_t delta = 0.075 F_0 at the prestress; x2 for
+    # contacts stiffened by compression)
+    out = _script("carried_imbalance.py", "--n", "12", "--ratio", "0.5", "--nf", "3",
+                  "--solver-tolerance", "1e-6", "--slip", "0", "1e-2")  # fmt: skip
+    rows = [dict(zip(line.split()[::2], line.split()[1::2], strict=True))
+            for line in out.splitlines() if line.startswith("solver")]  # fmt: skip
+    exact, slip = (float(r["largest"]) for r in rows)
+    assert exact < 1e-4 and 100 * exact < slip < 4 * 0.075 * 2
+    assert rows[0]["drained"] == rows[1]["drained"]
+
+
 def test_fit_sliding_constant_minimises_the_worst_factor():
     # two points that disagree: c = 1 fits the first exactly, c = 3 the second; the fit sits
     # where both are off by the same factor, and no c on a fine scan does better
