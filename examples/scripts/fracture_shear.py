@@ -27,9 +27,10 @@ is deleted). Several processes can share a study (one records file each, all of 
 to the report); ``--no-run`` reports what the files hold without running the rest (each row
 names its seeds). Each record keeps the run's CPU time (the table's column), how many
 contacts it froze (``frozen``, docs/run-file.md's ``frozen_contacts``) and the code that
-made it (``code``: the commit, with ``+dirty`` if porenet/ or examples/ had uncommitted
-changes; :func:`code_version`). The n = 400 study's records are kept in the repository,
-docs/data/fracture-shear-n400/ (docs/fracture-shear-n400.md says why). ``--status FILE``
+made it (``code``: the commit of the imported porenet, with ``+dirty`` if porenet/ or
+examples/ had uncommitted changes; :func:`code_version`). The n = 400 study's records are
+kept in the repository, docs/data/fracture-shear-n400/ (docs/fracture-shear-n400.md says
+why). ``--status FILE``
 runs nothing and writes which runs of the planned study (``--ratio`` x ``--friction`` x
 ``--nf`` x ``--seeds``) the records hold, which are missing, and the CPU time the missing
 ones should take (a study at n = 400 takes several sessions; docs/fracture-shear-n400.md); a
@@ -83,6 +84,7 @@ from fracture_shear_tables import (
     write_table,
 )
 
+import porenet
 from porenet.analysis.features import LONG_RUN, straight_runs
 from porenet.cli_checks import check_output_file
 from porenet.config.loading import load_scene
@@ -392,24 +394,34 @@ def model_sliding_ratio(record: dict) -> float:
     return wall(record["friction"]) / wall(None)
 
 
-def code_version() -> str:
-    """The code a run is made with, for its record: the commit of the repository this script
-    sits in (``+dirty`` if ``porenet/`` or ``examples/`` differ from it), or ``unknown``
-    outside a git checkout. Runs of different code can differ in round-off (or more, where a
-    solver changed), so a table that mixes them can say so."""
-    here = Path(__file__).resolve().parent
+def code_version(package: Path | None = None, script: Path | None = None) -> str:
+    """The code a run is made with, for its record: the commit of the checkout the imported
+    ``porenet`` package sits in (``+dirty`` if its ``porenet/`` or this script's
+    ``examples/`` differ from their commits; `` script <commit>`` appended if this script sits
+    in another checkout at another commit, as when a study runs a worktree's script with an
+    editable install's package), or ``porenet <version>`` when the package is not in a git
+    checkout (an installed wheel). Runs of different code can differ in round-off (or more,
+    where a solver changed), so a table that mixes them can say so. ``package`` and
+    ``script`` (folders) default to the imported package's and this script's."""
+    package = package or Path(porenet.__file__).resolve().parent
+    script = script or Path(__file__).resolve().parent
 
-    def git(*args: str) -> str:
-        out = subprocess.run(["git", "-C", str(here), *args], capture_output=True, text=True,
+    def git(where: Path, *args: str) -> str:
+        out = subprocess.run(["git", "-C", str(where), *args], capture_output=True, text=True,
                              check=True)  # fmt: skip
         return out.stdout.strip()
 
     try:
-        commit = git("rev-parse", "--short=7", "HEAD")
-        dirty = git("status", "--porcelain", "--", "../../porenet", "../../examples")
+        commit = git(package, "rev-parse", "--short=7", "HEAD")
+        dirty = git(package, "status", "--porcelain", "--", ".")
     except (OSError, subprocess.CalledProcessError):
-        return "unknown"
-    return commit + ("+dirty" if dirty else "")
+        return f"porenet {porenet.__version__}"
+    try:
+        own = git(script, "rev-parse", "--short=7", "HEAD")
+        dirty += git(script, "status", "--porcelain", "--", "..")
+    except (OSError, subprocess.CalledProcessError):
+        own = commit  # a script copied out of its checkout: the package's commit names it
+    return commit + ("+dirty" if dirty else "") + (f" script {own}" if own != commit else "")
 
 
 def append_record(records: Path, record: dict) -> None:

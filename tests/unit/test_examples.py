@@ -90,7 +90,7 @@ def test_fracture_shear_script_runs_and_resumes(tmp_path):
     # each record names the code that made it: a commit (``+dirty`` if porenet/ or examples/
     # differ from it), or "unknown" outside a git checkout
     code = json.loads(records.read_text().splitlines()[0])["code"]
-    assert code == "unknown" or re.fullmatch(r"[0-9a-f]{7}(\+dirty)?", code), code
+    assert re.fullmatch(r"porenet \S+|[0-9a-f]{7}(\+dirty)?( script [0-9a-f]{7})?", code), code
 
 
 def test_fracture_shear_status_lists_the_missing_runs_and_prices_them(tmp_path):
@@ -447,3 +447,41 @@ def test_fit_sliding_constant_minimises_the_worst_factor():
     assert c == pytest.approx(8**0.5 - 1, abs=0.01)
     for other in (0.5, 1.0, 1.5, 2.5, 3.0):
         assert max(max(m / (1 + other * x), (1 + other * x) / m) for x, m in points) >= worst
+
+
+def test_code_version_names_the_imported_package_and_a_script_elsewhere(tmp_path):
+    # a study runs a worktree's script; the record must name the code of the porenet it
+    # imported (an editable install can point at another checkout), and the script's commit
+    # where it differs
+    import subprocess
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    from fracture_shear import code_version
+
+    import porenet
+
+    def checkout(name: str, files: list[str]) -> str:
+        root = tmp_path / name
+        for f in files:
+            (root / f).parent.mkdir(parents=True, exist_ok=True)
+            (root / f).write_text(name)
+        git = ["git", "-C", str(root), "-c", "user.name=t", "-c", "user.email=t@t"]
+        subprocess.run([*git, "init", "-q"], check=True)
+        subprocess.run([*git, "add", "."], check=True)
+        subprocess.run([*git, "commit", "-q", "-m", name], check=True)
+        return subprocess.run([*git, "rev-parse", "--short=7", "HEAD"], check=True,
+                              capture_output=True, text=True).stdout.strip()  # fmt: skip
+
+    a = checkout("a", ["porenet/core.py", "examples/scripts/s.py"])
+    b = checkout("b", ["porenet/core.py", "examples/scripts/s.py"])
+    package, script = tmp_path / "a" / "porenet", tmp_path / "b" / "examples" / "scripts"
+    assert code_version(package, tmp_path / "a" / "examples" / "scripts") == a
+    assert code_version(package, script) == f"{a} script {b}"
+    (package / "core.py").write_text("changed")
+    assert code_version(package, script) == f"{a}+dirty script {b}"
+    (script / "s.py").write_text("changed")  # the script's own examples/ count too
+    assert code_version(tmp_path / "b" / "porenet", script) == f"{b}+dirty"
+    plain = tmp_path / "wheel" / "porenet"
+    plain.mkdir(parents=True)
+    assert code_version(plain, plain) == f"porenet {porenet.__version__}"
