@@ -268,17 +268,36 @@ def print_rows(label: str, names: list[str], walls: list[float], runs: list[dict
     for name, wall, run in zip(names, walls, runs, strict=True):
         s = run["summary"]
         per = 1e3 * s["mechanics_time_s"] / max(int(s["mechanical_updates"]), 1)
-        same = len(run["order"]) == len(first["order"]) and bool(
-            np.all(run["order"] == first["order"])
-        )
         du = np.abs(run["displacement"] - first["displacement"]).max() / a
         dh = np.abs(run["apertures"] - first["apertures"]).max() / a
         print(f"| {name} | {wall:.1f} | {s['mechanics_time_s']:.1f} | "
               f"{s['mechanical_updates']} | {per:.1f} | {s['solver_iterations']} | "
               f"{s['multigrid_builds']} | {s.get('frozen_contacts', 0)} | {len(run['order'])} | "
-              f"{int(np.count_nonzero(run['removed']))} | {'yes' if same else 'no'} | "
-              f"{'yes' if np.array_equal(run['removed'], first['removed']) else 'no'} | "
+              f"{int(np.count_nonzero(run['removed']))} | "
+              f"{order_column(first['order'], run['order'])} | "
+              f"{contacts_column(first['removed'], run['removed'])} | "
               f"{du:.2g} | {dh:.2g} |")  # fmt: skip
+
+
+def order_column(reference: np.ndarray, order: np.ndarray, most: int = 8) -> str:
+    """The table's "same drained order": ``yes``, or ``no`` with the drain positions
+    (1-based) where the two orders differ, up to ``most`` of them (else their count), or the
+    two lengths where they differ."""
+    if len(order) != len(reference):
+        return f"no ({len(order)} drained against {len(reference)})"
+    where = np.flatnonzero(order != reference) + 1
+    if where.size == 0:
+        return "yes"
+    if where.size > most:
+        return f"no ({where.size} positions)"
+    return f"no (at {', '.join(str(i) for i in where)})"
+
+
+def contacts_column(reference: np.ndarray, removed: np.ndarray) -> str:
+    """The table's "same open contacts": ``yes``, or ``no`` with how many contacts are open
+    in one run and not in the other."""
+    differ = int(np.count_nonzero(np.asarray(removed, bool) != np.asarray(reference, bool)))
+    return "yes" if differ == 0 else f"no ({differ} differ)"
 
 
 def compare(files: list[str]) -> None:

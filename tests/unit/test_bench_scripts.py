@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_frictional.py"
@@ -70,3 +71,20 @@ def test_bench_frictional_anatomy_splits_the_solver_work():
         assert solves >= updates > 0
         if row[1] == "rebuilt every solve":
             assert builds >= 2 * solves
+
+
+def test_bench_frictional_names_where_two_runs_differ():
+    # the tolerance table says where the drained orders part and how many contacts differ
+    sys.path.insert(0, str(BENCH.parent))
+    from bench_frictional import contacts_column, order_column
+
+    ref = np.arange(10)
+    swapped = ref.copy()
+    swapped[[3, 4]] = swapped[[4, 3]]
+    assert order_column(ref, ref) == "yes"
+    assert order_column(ref, swapped) == "no (at 4, 5)"
+    assert order_column(ref, ref[::-1]) == "no (10 positions)"
+    assert order_column(ref, ref[:8]) == "no (8 drained against 10)"
+    open_ = np.array([True, False, True, False])
+    assert contacts_column(open_, open_) == "yes"
+    assert contacts_column(open_, np.array([True, True, False, False])) == "no (2 differ)"
