@@ -87,8 +87,9 @@ def test_fracture_shear_script_runs_and_resumes(tmp_path):
     records.write_text(records.read_text().rstrip("\n"))
     _script("fracture_shear.py", *args[:7], "10", "3", *args[8:])
     assert [json.loads(line)["nf"] for line in records.read_text().splitlines()] == [10.0, 3.0]
-    # each record names the code that made it: a commit (``+dirty`` if porenet/ or examples/
-    # differ from it), or "unknown" outside a git checkout
+    # each record names the code that made it: the imported porenet's commit (``+dirty`` if
+    # porenet/ or examples/ differ from it, the script's commit after it if that differs), or
+    # the package's version outside a git checkout
     code = json.loads(records.read_text().splitlines()[0])["code"]
     assert re.fullmatch(r"porenet \S+|[0-9a-f]{7}(\+dirty)?( script [0-9a-f]{7})?", code), code
 
