@@ -44,7 +44,8 @@ together, whatever its K_t/K_n (the study's answer at a glance). ``--sliding-cos
 runs nothing and tables every run with sliding beside the same run without it, their CPU
 times' ratio against the cost model's factor for sliding and the model's constant fitted to
 them (docs/cost.md). The reports are written by ``fracture_shear_tables.py`` beside this
-script; this one makes the runs.
+script; this one makes the runs; ``fracture_shear_doc.py`` makes the tables of
+docs/fracture-shear-n400.md again from the committed records.
 With ``--runs``, ``--checkpoint-every 10m`` writes each run's checkpoint beside its run file
 (docs/run-file.md, "Checkpoints"), and a study restarted after its process was killed
 finishes that run from the checkpoint, with the uninterrupted run's result (the code and
@@ -248,7 +249,8 @@ def describe(data, summary: dict, n: int) -> dict:
     }
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
+    """The script's command line (``argv``: its arguments; None: ``sys.argv``'s)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100)
     parser.add_argument("--ratio", type=float, nargs="+", default=[0.1, 0.3, 0.8],
@@ -301,7 +303,7 @@ def main() -> None:
                         "sliding in --records beside the same run without it, their CPU "
                         "times' ratio against the cost model's factor for sliding, and the "
                         "model's constant fitted to them")  # fmt: skip
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     try:
         frictions = [None if f == "none" else float(f) for f in args.friction]
     except ValueError:

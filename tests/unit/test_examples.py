@@ -487,3 +487,48 @@ def test_code_version_names_the_imported_package_and_a_script_elsewhere(tmp_path
     plain = tmp_path / "wheel" / "porenet"
     plain.mkdir(parents=True)
     assert code_version(plain, plain) == f"porenet {porenet.__version__}"
+
+
+def _doc_script():
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    import fracture_shear_doc
+
+    return fracture_shear_doc
+
+
+def test_fracture_shear_n400_page_tables_are_what_its_committed_records_give(capsys):
+    # docs/fracture-shear-n400.md's marked tables, made again from docs/data/: a record
+    # committed without its tables (or a change to the cost model that prices them) fails
+    # here, naming the table and the command that makes it again
+    doc = _doc_script()
+    assert doc.main(["--check"]) == 0, capsys.readouterr().out
+
+
+def test_fracture_shear_doc_names_a_stale_table_and_rewrites_only_the_tables(tmp_path, capsys):
+    doc = _doc_script()
+    records = tmp_path / "records"
+    records.mkdir()
+    (records / "a.jsonl").write_text(doc.RECORDS.joinpath("no-sliding.jsonl").read_text())
+    page = tmp_path / "page.md"
+    text = ("# prose kept\n\n<!-- table: by N_f, committed records -->\nstale\n"
+            "<!-- end table -->\n\nmore prose\n")  # fmt: skip
+    page.write_text(text)
+    args = ["--page", str(page), "--records", str(records)]
+    assert doc.main([*args, "--check"]) == 1
+    assert "table 'by N_f, committed records' differs" in capsys.readouterr().out
+    assert page.read_text() == text  # --check writes nothing
+    assert doc.main(args) == 0
+    made = page.read_text()
+    assert made.startswith("# prose kept\n\n<!-- table: by N_f, committed records -->\n| sliding")
+    assert made.endswith("<!-- end table -->\n\nmore prose\n") and "stale" not in made
+    assert "| no sliding | 1 | 12 |" in made  # the records' twelve runs at N_f = 1
+    assert doc.main([*args, "--check"]) == 0
+    for bad, says in (("<!-- table: nonsense -->\nx\n<!-- end table -->\n", "'nonsense' is not"),
+                      ("<!-- table: sliding cost -->\nx\n", "has no")):  # fmt: skip
+        page.write_text(bad)
+        with pytest.raises(SystemExit):
+            doc.main(args)
+        assert says in capsys.readouterr().err
+        assert page.read_text() == bad  # nothing written
