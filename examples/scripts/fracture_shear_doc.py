@@ -70,7 +70,7 @@ def report(name: str, files: list[Path]) -> str:
         with contextlib.redirect_stdout(io.StringIO()):
             fracture_shear.main(argv)
         text = out.read_text()
-    return text.split("\n\n", 1)[1].strip()
+    return text.split("\n\n", 1)[-1].strip()  # a report without a caption: all of it
 
 
 def fill(page: str, files: list[Path]) -> tuple[str, list[str]]:
