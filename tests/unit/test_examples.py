@@ -11,6 +11,9 @@ import pytest
 from porenet.config.loading import load_scene, read_toml
 from porenet.hooks import build_registry
 
+#: The example scripts (they import each other by name, as when run from their folder).
+SCRIPTS = Path(__file__).resolve().parents[2] / "examples" / "scripts"
+
 SCENES = sorted((Path(__file__).resolve().parents[2] / "examples" / "scenes").glob("*.toml"))
 
 
@@ -32,7 +35,7 @@ def test_fig5_script_runs_on_a_small_lattice(tmp_path):
     import subprocess
     import sys
 
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fig5.py"
+    script = SCRIPTS / "fig5.py"
     table = tmp_path / "fig5.md"
     out = subprocess.run(
         [sys.executable, str(script), "--n", "20", "--nf", "10", "0.01", "--table", str(table)],
@@ -49,7 +52,7 @@ def test_accuracy_seeds_script_runs_on_a_small_lattice(tmp_path):
     import subprocess
     import sys
 
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "accuracy_seeds.py"
+    script = SCRIPTS / "accuracy_seeds.py"
     table = tmp_path / "seeds.md"
     args = ["--n", "12", "--ca", "1e-4", "--seeds", "1", "--table", str(table)]
     out = subprocess.run(
@@ -61,11 +64,19 @@ def test_accuracy_seeds_script_runs_on_a_small_lattice(tmp_path):
     assert "| explicit, tight (reference) | 1.000 | 1.000 | 0.00e+00 |" in table.read_text()
 
 
+def _scripts_importable() -> None:
+    """Make :data:`SCRIPTS` importable (once on ``sys.path``, however many tests ask)."""
+    import sys
+
+    if str(SCRIPTS) not in sys.path:
+        sys.path.insert(0, str(SCRIPTS))
+
+
 def _script(name: str, *args: str) -> str:
     import subprocess
     import sys
 
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / name
+    script = SCRIPTS / name
     out = subprocess.run(
         [sys.executable, str(script), *args], capture_output=True, text=True, timeout=300
     )
@@ -177,11 +188,9 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
 def test_fracture_shear_sliding_cost_pairs_runs_and_fits_the_cost_model(tmp_path):
     # each run with sliding beside the same point and seed without it, against the cost
     # model's whole-run estimate of that ratio; c fitted to keep the worst pair closest
-    import sys
-
     from porenet.core.cost import MINDLIN_SLIDING, estimate_cost
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    _scripts_importable()
     from fig5 import make_scene
 
     def model(ratio: float, nf: float) -> float:  # porenet plan's estimate, with over without
@@ -242,7 +251,7 @@ def test_fracture_shear_names_an_output_in_a_missing_folder(tmp_path, flag):
     import subprocess
     import sys
 
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    script = SCRIPTS / "fracture_shear.py"
     out = subprocess.run([sys.executable, str(script), "--no-run", flag,
                           str(tmp_path / "missing" / "x.md")],
                          capture_output=True, text=True, timeout=300)  # fmt: skip
@@ -258,7 +267,7 @@ def test_fracture_shear_names_a_broken_record_and_runs_nothing(tmp_path):
 
     records, status = tmp_path / "r.jsonl", tmp_path / "status.md"
     records.write_text('\n{"n": 400, "ratio": 0.5, "fric')
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    script = SCRIPTS / "fracture_shear.py"
     out = subprocess.run([sys.executable, str(script), "--records", str(records), "--status",
                           str(status)], capture_output=True, text=True, timeout=300)  # fmt: skip
     assert out.returncode == 2 and "Traceback" not in out.stderr
@@ -288,9 +297,8 @@ def _crashed_run(runs: Path, nf: float, point_nf: float) -> Path:
     """The checkpoint a study process killed mid-run leaves for the point (n = 16, K_t/K_n =
     0.5 with sliding, seed 1, N_f ``point_nf``), written by a run of Fig. 5's scene at
     ``nf`` stopped after a third of its drained pores; returns the checkpoint's path."""
-    import sys
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    _scripts_importable()
     from fig5 import make_scene
 
     from porenet.io.checkpoint import checkpoint_path
@@ -343,7 +351,7 @@ def test_fracture_shear_resumes_past_a_damaged_cpu_record(tmp_path):
     path = _crashed_run(runs, 10.0, 10.0)
     cpu_file = path.with_name(path.name + ".cpu")
     cpu_file.write_text('{"cpu_s": ')
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    script = SCRIPTS / "fracture_shear.py"
     out = subprocess.run(
         [sys.executable, str(script), "--n", "16", "--ratio", "0.5", "--friction", "0.3",
          "--nf", "10", "--seeds", "1", "--records", str(tmp_path / "r.jsonl"), "--runs",
@@ -363,7 +371,7 @@ def test_fracture_shear_refuses_a_checkpoint_of_another_scene(tmp_path):
 
     runs, records = tmp_path / "runs", tmp_path / "r.jsonl"
     path = _crashed_run(runs, 3.0, 10.0)
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    script = SCRIPTS / "fracture_shear.py"
     out = subprocess.run(
         [sys.executable, str(script), "--n", "16", "--ratio", "0.5", "--friction", "0.3",
          "--nf", "10", "--seeds", "1", "--records", str(records), "--runs", str(runs)],
@@ -378,7 +386,7 @@ def test_fracture_shear_checkpoints_need_run_files(tmp_path):
     import subprocess
     import sys
 
-    script = Path(__file__).resolve().parents[2] / "examples" / "scripts" / "fracture_shear.py"
+    script = SCRIPTS / "fracture_shear.py"
     for extra, message in ((["--checkpoint-every", "10m"], "--checkpoint-every needs --runs"),
                            (["--runs", str(tmp_path), "--checkpoint-every", "soon"],
                             "--checkpoint-every 'soon': give a duration")):  # fmt: skip
@@ -438,9 +446,8 @@ def test_carried_imbalance_comes_from_the_tolerances():
 def test_fit_sliding_constant_minimises_the_worst_factor():
     # two points that disagree: c = 1 fits the first exactly, c = 3 the second; the fit sits
     # where both are off by the same factor, and no c on a fine scan does better
-    import sys
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    _scripts_importable()
     from fracture_shear_tables import fit_sliding_constant
 
     points = [(1.0, 2.0), (1.0, 4.0)]
@@ -456,9 +463,8 @@ def test_code_version_names_the_imported_package_and_a_script_elsewhere(tmp_path
     # imported (an editable install can point at another checkout), and the script's commit
     # where it differs
     import subprocess
-    import sys
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    _scripts_importable()
     from fracture_shear import code_version
 
     import porenet
@@ -490,9 +496,7 @@ def test_code_version_names_the_imported_package_and_a_script_elsewhere(tmp_path
 
 
 def _doc_script():
-    import sys
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "scripts"))
+    _scripts_importable()
     import fracture_shear_doc
 
     return fracture_shear_doc
