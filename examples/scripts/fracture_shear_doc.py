@@ -115,6 +115,8 @@ def main(argv: list[str] | None = None) -> int:
         page = args.page.read_text()
     except OSError as exc:
         parser.error(f"--page: cannot read {args.page} ({exc.strerror})")
+    except UnicodeDecodeError as exc:
+        parser.error(f"--page: {args.page} is not UTF-8 text (byte {exc.start})")
     try:
         new, changed = fill(page, files)
     except PageError as exc:

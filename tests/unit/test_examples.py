@@ -536,3 +536,7 @@ def test_fracture_shear_doc_names_a_stale_table_and_rewrites_only_the_tables(tmp
             doc.main(args)
         assert says in capsys.readouterr().err
         assert page.read_text() == bad  # nothing written
+    page.write_bytes(b"\xff\xfe not text")
+    with pytest.raises(SystemExit):
+        doc.main(args)
+    assert "is not UTF-8 text" in capsys.readouterr().err
