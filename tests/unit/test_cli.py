@@ -184,6 +184,18 @@ def test_output_never_destroys_a_file_that_is_not_a_run_file(write_scene, tmp_pa
     assert "is a directory" in capsys.readouterr().err
 
 
+@pytest.fixture
+def ctrl_c_reaches_python():
+    """SIGINT raises KeyboardInterrupt during the test, even where pytest runs with SIGINT
+    ignored (a job that a script started with &, which porenet leaves alone)."""
+    import signal
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+@pytest.mark.usefixtures("ctrl_c_reaches_python")
 def test_an_error_that_follows_ctrl_c_is_reported_as_the_interruption(monkeypatch, capsys):
     """Numba can drop a KeyboardInterrupt raised inside an LLVM callback and fail later with
     an unrelated error ("no compiled object yet"): after Ctrl-C, that is exit 130."""
@@ -202,6 +214,95 @@ def test_an_error_that_follows_ctrl_c_is_reported_as_the_interruption(monkeypatc
     assert main(["validate", "scene.toml"]) == 130
     assert "porenet validate: interrupted" in capsys.readouterr().err
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+
+
+@pytest.mark.usefixtures("ctrl_c_reaches_python")
+def test_ctrl_c_that_a_ctypes_callback_dropped_still_interrupts(monkeypatch, capsys):
+    """LLVM calls Python through ctypes while numba compiles; ctypes drops a KeyboardInterrupt
+    raised there, and the run went on to its end (exit 0) as if Ctrl-C had not been pressed.
+    It is raised again once the callback has returned."""
+    import ctypes
+    import ctypes.util
+    import os
+    import signal
+    import sys
+    import time
+
+    import porenet.cli as cli
+
+    libc = ctypes.CDLL(ctypes.util.find_library("c"))
+    compare = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
+    went_on = []
+
+    def ctrl_c_in_a_callback(args):
+        def callback(a, b):
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C, inside the ctypes callback
+            time.sleep(0.01)  # the handler runs here and its KeyboardInterrupt is dropped
+            return 0
+
+        items = (ctypes.c_int * 2)(2, 1)
+        libc.qsort(items, 2, ctypes.sizeof(ctypes.c_int), compare(callback))
+        went_on.append(True)  # the interrupt must not let the command go on
+        return 0
+
+    hook = sys.unraisablehook
+    monkeypatch.setitem(cli.COMMANDS, "validate", ctrl_c_in_a_callback)
+    assert main(["validate", "scene.toml"]) == 130
+    err = capsys.readouterr().err
+    assert "porenet validate: interrupted" in err and "Exception ignored" not in err
+    assert not went_on
+    assert sys.unraisablehook is hook and sys.getprofile() is None
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+@pytest.mark.usefixtures("ctrl_c_reaches_python")
+def test_ctrl_c_that_a_library_swallowed_is_reported(monkeypatch, capsys):
+    """numpy's C code calls a Python check while it makes some dtypes and clears any error it
+    raises, a KeyboardInterrupt too: the command goes on to its end, and says so."""
+    import os
+    import signal
+    import time
+
+    import porenet.cli as cli
+
+    def swallowed_then_done(args):
+        try:  # as C code that calls Python and clears its error
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C
+            time.sleep(0.01)
+        except KeyboardInterrupt:
+            pass
+        return 0
+
+    monkeypatch.setitem(cli.COMMANDS, "validate", swallowed_then_done)
+    assert main(["validate", "scene.toml"]) == 0
+    err = capsys.readouterr().err
+    assert "porenet validate: Ctrl-C was lost inside a library" in err
+    assert "its output is complete" in err
+
+
+def test_an_interrupt_that_escaped_an_exec_string_still_exits_130(tmp_path):
+    """``python -m porenet``: CPython kills itself with SIGINT at exit after a
+    KeyboardInterrupt escaped an exec() of a string (numba and dataclasses build code that
+    way), whatever status the program returned: the parent saw -2, not 130
+    (docs/reliability.md, "Exit status"). Run as a module, as ``-m`` runs porenet; ``-c``
+    and a script file take another exit path that does not look at the note."""
+    import os
+    import subprocess
+    import sys
+
+    (tmp_path / "interrupted_in_built_code.py").write_text(
+        "import porenet.cli as cli\n"
+        "def command(args):\n"
+        "    exec('raise KeyboardInterrupt')\n"
+        "cli.COMMANDS['validate'] = command\n"
+        "raise SystemExit(cli.main(['validate', 'scene.toml']))\n"
+    )
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [str(tmp_path), *filter(None, [os.environ.get("PYTHONPATH")])]))  # fmt: skip
+    out = subprocess.run([sys.executable, "-m", "interrupted_in_built_code"], env=env,
+                         capture_output=True, text=True, timeout=120)  # fmt: skip
+    assert out.returncode == 130, (out.returncode, out.stderr[-800:])
+    assert "porenet validate: interrupted" in out.stderr and "Traceback" not in out.stderr
 
 
 def test_ctrl_c_during_a_first_compilation_exits_130(tmp_path):
