@@ -467,7 +467,10 @@ def _interrupts() -> Iterator[Callable[[], bool]]:
         threading.current_thread() is not threading.main_thread()
         or signal.getsignal(signal.SIGINT) is signal.SIG_IGN
     ):
-        yield lambda: False
+        try:
+            yield lambda: False
+        finally:
+            _forget_escaped_interrupts()  # a KeyboardInterrupt raised by the code itself
         return
     ctrl_c = _CtrlC()
     previous = signal.signal(signal.SIGINT, ctrl_c.handler)
