@@ -322,6 +322,8 @@ def test_ctrl_c_during_a_first_compilation_exits_130(tmp_path):
             [sys.executable, "-m", "porenet", "run", str(scene), "--set", "lattice.n=30",
              "-o", str(tmp_path / "run.h5")],
             stderr=subprocess.PIPE, text=True, env=env,
+            # as from a terminal, also where pytest runs with SIGINT ignored (started with &)
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
         )  # fmt: skip
         time.sleep(delay)
         proc.send_signal(signal.SIGINT)
