@@ -14,11 +14,10 @@ import json
 import logging
 import sys
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from porenet.cli_interrupts import interrupts
 from porenet.core.errors import ConfigError, OutputError, RunFileError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -417,7 +416,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)  # bad usage: argparse prints it and exits with 2
     level = logging.WARNING - 10 * min(args.verbose, 2)
     logging.basicConfig(level=level, format="%(levelname)s %(name)s: %(message)s")
-    with _interrupts() as interrupted:
+    with interrupts() as interrupted:
         try:
             status = int(COMMANDS[args.command](args))
             if interrupted():  # caught and cleared in a library's C code (numpy's ctypes check)
@@ -445,90 +444,3 @@ def _interrupted(command: str) -> int:
     written = "; no run file was written" if command in ("run", "resume") else ""
     print(f"porenet {command}: interrupted{written}", file=sys.stderr)
     return 130
-
-
-@contextmanager
-def _interrupts() -> Iterator[Callable[[], bool]]:
-    """Notes whether Ctrl-C (SIGINT) arrived, and raises KeyboardInterrupt as Python does.
-
-    A KeyboardInterrupt raised while numba compiles can land in a callback that LLVM calls
-    (through ctypes, which drops exceptions raised in callbacks and reports them to
-    ``sys.unraisablehook``): the compilation then either fails later with an unrelated error
-    (numba's "no compiled object yet") or succeeds, and the run went on to its end as if
-    Ctrl-C had not been pressed. So the interrupt is raised again at the first Python call
-    or return outside the callback (:class:`_CtrlC`), and any error after Ctrl-C is reported
-    as the interruption (exit 130), not as an internal error."""
-    import signal
-    import threading
-
-    # signals reach only the main thread; an ignored SIGINT (a job started with & by a
-    # script) stays ignored
-    if (
-        threading.current_thread() is not threading.main_thread()
-        or signal.getsignal(signal.SIGINT) is signal.SIG_IGN
-    ):
-        try:
-            yield lambda: False
-        finally:
-            _forget_escaped_interrupts()  # a KeyboardInterrupt raised by the code itself
-        return
-    ctrl_c = _CtrlC()
-    previous = signal.signal(signal.SIGINT, ctrl_c.handler)
-    sys.unraisablehook = ctrl_c.unraisable
-    try:
-        yield lambda: ctrl_c.received
-    finally:
-        ctrl_c.active = False
-        sys.unraisablehook = ctrl_c.previous_hook
-        signal.signal(signal.SIGINT, previous)
-        _forget_escaped_interrupts()
-
-
-class _CtrlC:
-    """Ctrl-C while ``main`` runs a command: the SIGINT handler, and the raising again of an
-    interrupt that a ctypes callback dropped (:func:`_interrupts`)."""
-
-    def __init__(self) -> None:
-        self.received = False  # a SIGINT arrived
-        self.active = True  # the command runs: a dropped interrupt is raised again
-        self.previous_hook = sys.unraisablehook  # every other unraisable exception goes there
-        self._previous_profile: Any = None
-
-    def handler(self, signum: int, frame: Any) -> None:
-        self.received = True
-        raise KeyboardInterrupt
-
-    def unraisable(self, report: Any) -> None:
-        """A KeyboardInterrupt that ctypes dropped: raise it again at the next Python call or
-        return (:meth:`_raise_again`), without the "Exception ignored" traceback."""
-        if (
-            self.active
-            and report.exc_type is not None
-            and issubclass(report.exc_type, KeyboardInterrupt)
-        ):
-            self._previous_profile = sys.getprofile()
-            sys.setprofile(self._raise_again)
-            return
-        self.previous_hook(report)
-
-    def _raise_again(self, frame: Any, event: str, arg: Any) -> None:
-        if frame.f_code is _CtrlC.unraisable.__code__:  # still in the hook, inside ctypes
-            return
-        sys.setprofile(self._previous_profile)
-        if self.active:
-            raise KeyboardInterrupt
-
-
-def _forget_escaped_interrupts() -> None:
-    """Let the status ``main`` returns be the process's exit status after a caught Ctrl-C.
-
-    CPython notes a KeyboardInterrupt that escapes any ``exec`` or ``eval`` of a string
-    (numba, dataclasses and namedtuple build code that way, so an interrupt during imports or
-    a first compilation often passes through one) and, when it ran a module with ``-m``, kills
-    the process with SIGINT at exit, whatever status the program chose: ``python -m
-    porenet`` printed "interrupted" and still ended as killed by SIGINT (status -2 to a
-    parent process) instead of 130, in 5 of 40 interrupts about 1 s into a first run
-    (docs/reliability.md, "Exit status"; the ``porenet`` script exits through another path).
-    The next string ``exec`` that completes clears the note. An interrupt that ``main`` does
-    not catch is noted again by the interpreter as it leaves the program."""
-    exec("pass")  # the string form is the point (see above)
