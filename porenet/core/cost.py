@@ -42,7 +42,7 @@ pores):
   ``steps (1.5e-7 n + 1.8e-9 N) + drained 2.9e-6 n``; implicit ``drained 0.039
   (N / 2500)^1.41``; a deformable medium adds ``steps (3e-5 + 1.8e-9 N)`` (one step per
   call and the coupler's check) and ``updates (2.3e-9 + 7e-9 w) N^1.15`` (``w`` = 1 when
-  fracturing), ``updates 1.9e-7 N`` for ``hertz-mindlin``, times ``1 + 1.9 sqrt(r_t) w``
+  fracturing), ``updates 1.9e-7 N`` for ``hertz-mindlin``, times ``1 + 1.7 sqrt(r_t) w``
   with sliding (``r_t = K_t / K_n``); RKC with local time steps on large lattices ~1/3 of its
   time without (:data:`LOCAL_STEPS_FACTOR`). Python start-up, imports and the first-run numba
   compilation (7-55 s, once per machine: docs/performance.md, "First run") are not
@@ -168,11 +168,14 @@ MINDLIN_UPDATE_SECONDS = 1.9e-7
 #: one without (``r_t = K_t / K_n``, ``w`` the fracture weight): contacts at Coulomb's cap
 #: change mode as the load moves, each change a new solve, and the more so the stiffer the
 #: contacts and the more the medium fractures. Fitted to the n = 400 study's runs with and
-#: without sliding made with one code on one machine, the constant that keeps the worst pair
-#: closest (``examples/scripts/fracture_shear.py --sliding-cost``: within 1.23x; the form
-#: ``1 + c r_t w`` came within 1.31x at best, docs/cost.md). It was ``1 + 8 r_t w`` before
-#: the multigrid's hierarchies were built with every sliding contact stuck (11f18f4).
-MINDLIN_SLIDING = 1.9
+#: without sliding made with one code on one machine: the constant that keeps the worst
+#: point's median over its seeds closest (``examples/scripts/fracture_shear.py
+#: --sliding-cost``: 12 points, 24 pairs, every median within 1.23x, every pair within
+#: 1.58x; seeds of one point differ by up to 1.4x); the form ``1 + c r_t w`` came within
+#: 1.31x at best, docs/cost.md. It was 1.9, fitted to the worst pair, until 2026-12-07, and
+#: ``1 + 8 r_t w`` before the multigrid's hierarchies were built with every sliding contact
+#: stuck (11f18f4).
+MINDLIN_SLIDING = 1.7
 #: Extra peak memory of the frictional solid per pore (two multigrid hierarchies).
 MEMORY_MINDLIN = 600.0
 #: Solid kinds whose fracturing and coupling the model follows (the same coupler and

@@ -237,10 +237,35 @@ def test_fracture_shear_sliding_cost_pairs_runs_and_fits_the_cost_model(tmp_path
     assert "| 400 | 0.8 | mu = 0.3 | 0.1 | 1 | 800 | 840 | 1.05 | 1.00 | -, - |" in rows
     assert sum(row.startswith("| 400 |") for row in rows) == 3  # the lone run has no pair
     assert (
-        "3 pairs; c fitted to the 2 above the crossover: c = 2.00, every one within 1.00x of "
-        "the model's estimate" in printed
+        "3 pairs; c fitted to the medians over the seeds of the 2 points above the crossover "
+        "(2 pairs): c = 2.00, every point's median within 1.00x of the model's estimate, "
+        "every pair within 1.00x" in printed
     )
     assert records.read_text().count("\n") == len(lines)  # nothing ran
+
+
+def test_sliding_cost_fits_each_points_median_not_its_worst_seed(tmp_path):
+    # one point, three seeds costing 1.5x, 2x and 4x: the model sees the point, not the seed,
+    # so c follows the median (1 + c x = 2), and the summary says how far the seeds stray
+    from porenet.core.cost import MINDLIN_SLIDING
+
+    _scripts_importable()
+    from fracture_shear_tables import POINT, write_sliding_cost
+
+    x = 0.5  # the model's (ratio - 1) / c at this point
+    done = {}
+    for seed, cost in [(1, 1.5), (2, 2.0), (3, 4.0)]:
+        for friction, cpu in [(None, 100.0), (0.3, 100.0 * cost)]:
+            rec = {"n": 400, "ratio": 0.8, "friction": friction, "rotation": "held",
+                   "solver_tolerance": None, "nf": 3.0, "seed": seed, "cpu": cpu,
+                   "wall": cpu}  # fmt: skip
+            done[tuple(rec[k] for k in POINT)] = rec
+    out = tmp_path / "cost.md"
+    write_sliding_cost(done, out, lambda rec: 1 + MINDLIN_SLIDING * x)
+    summary = out.read_text().splitlines()[-1]
+    assert "1 points above the crossover (3 pairs): c = 2.00" in summary
+    assert "every point's median within 1.00x" in summary
+    assert "every pair within 2.00x" in summary  # the 4x seed against the model's 2x
 
 
 @pytest.mark.parametrize(
