@@ -308,9 +308,9 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path,
     median ratio over its seeds closest is :func:`fit_sliding_constant`'s; with it, how far
     the worst single pair is off. The median, not each pair: the model sees a point, not a
     seed, and one seed's run can cost ~1.4x another's at the same point (K_t/K_n 0.8 at
-    N_f = 3: 1.52x to 2.10x, each run made twice to the last digit), so a fit to the worst
-    pair is set by the seeds' spread (decision in docs/fracture-shear-n400.md, "What
-    sliding costs")."""
+    N_f = 3: 1.52x to 2.10x; the 1.52x pair's run without sliding made twice, to the last
+    digit, in 517 and 526 s), so a fit to the worst pair is set by the seeds' spread
+    (decision in docs/fracture-shear-n400.md, "What sliding costs")."""
     pairs = []
     for rec in done.values():
         if rec["friction"] is None:
@@ -332,12 +332,12 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path,
         "model | code (without, with) |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
-    fits: dict[tuple, list[float]] = {}  # a point's x: the ratios of its seeds
+    fits: dict[tuple, tuple[float, list[float]]] = {}  # a point: its x, its seeds' ratios
     for slide, stick in pairs:
         ratio, model = cpu_of(slide) / cpu_of(stick), model_ratio(slide)
         if model > 1:
             point = tuple(slide[k] for k in POINT if k != "seed")
-            fits.setdefault(point, [(model - 1) / MINDLIN_SLIDING]).append(ratio)
+            fits.setdefault(point, ((model - 1) / MINDLIN_SLIDING, []))[1].append(ratio)
         lines.append(
             f"| {slide['n']} | {slide['ratio']:g} | {friction_label(slide['friction'])} | "
             f"{slide['nf']:g} | {slide['seed']} | {cpu_of(stick):.0f} | {cpu_of(slide):.0f} | "
@@ -345,13 +345,14 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path,
             f"{stick.get('code', '-')}, {slide.get('code', '-')} |"
         )
     if fits:
-        c, worst = fit_sliding_constant([(x, statistics.median(m)) for x, *m in fits.values()])
-        _, worst_pair = fit_sliding_constant([(x, r) for x, *m in fits.values() for r in m],
+        c, worst = fit_sliding_constant([(x, statistics.median(r)) for x, r in fits.values()])
+        _, worst_pair = fit_sliding_constant([(x, one) for x, r in fits.values() for one in r],
                                              c=c)  # fmt: skip
-        above = sum(len(m) for _, *m in fits.values())
+        above = sum(len(r) for _, r in fits.values())
+        points = f"{len(fits)} point" + ("s" if len(fits) != 1 else "")
         summary = (
-            f"{len(pairs)} pairs; c fitted to the medians over the seeds of the {len(fits)} "
-            f"points above the crossover ({above} pairs): c = {c:.2f}, every point's median "
+            f"{len(pairs)} pairs; c fitted to the medians over the seeds of the {points} "
+            f"above the crossover ({above} pairs): c = {c:.2f}, every point's median "
             f"within {worst:.2f}x of the model's estimate, every pair within {worst_pair:.2f}x"
         )
     else:

@@ -263,7 +263,7 @@ def test_sliding_cost_fits_each_points_median_not_its_worst_seed(tmp_path):
     out = tmp_path / "cost.md"
     write_sliding_cost(done, out, lambda rec: 1 + MINDLIN_SLIDING * x)
     summary = out.read_text().splitlines()[-1]
-    assert "1 points above the crossover (3 pairs): c = 2.00" in summary
+    assert "the 1 point above the crossover (3 pairs): c = 2.00" in summary
     assert "every point's median within 1.00x" in summary
     assert "every pair within 2.00x" in summary  # the 4x seed against the model's 2x
 
