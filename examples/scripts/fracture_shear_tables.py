@@ -346,8 +346,7 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path,
         )
     if fits:
         c, worst = fit_sliding_constant([(x, statistics.median(r)) for x, r in fits.values()])
-        _, worst_pair = fit_sliding_constant([(x, one) for x, r in fits.values() for one in r],
-                                             c=c)  # fmt: skip
+        worst_pair = worst_factor([(x, one) for x, r in fits.values() for one in r], c)
         above = sum(len(r) for _, r in fits.values())
         points = f"{len(fits)} point" + ("s" if len(fits) != 1 else "")
         summary = (
@@ -362,21 +361,20 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path,
     print(f"sliding cost: {out}")
 
 
-def fit_sliding_constant(points: list[tuple[float, float]],
-                         c: float | None = None) -> tuple[float, float]:  # fmt: skip
-    """The constant ``c >= 0`` of the cost model's sliding ratio ``1 + c x`` that makes the
-    largest factor between model and measurement over ``points`` (``(x, measured ratio)``)
-    smallest, and that factor: an estimate for planning runs should be off by as little as
-    possible at its worst, not on average. Found by scanning ``c`` in steps of 0.01 up to twice the
-    largest single-point fit (the worst factor is piecewise monotone in ``c``, so the scan
-    is within a step of the optimum). Given ``c``, that c and its largest factor."""
+def worst_factor(points: list[tuple[float, float]], c: float) -> float:
+    """The largest factor between the cost model's sliding ratio ``1 + c x`` and the measured
+    one over ``points`` (``(x, measured ratio)``), either way."""
+    return max(max(m / (1 + c * x), (1 + c * x) / m) for x, m in points)
 
-    def worst(c: float) -> float:
-        return max(max(m / (1 + c * x), (1 + c * x) / m) for x, m in points)
 
-    if c is not None:
-        return c, worst(c)
+def fit_sliding_constant(points: list[tuple[float, float]]) -> tuple[float, float]:
+    """The constant ``c >= 0`` of the cost model's sliding ratio ``1 + c x`` that makes
+    :func:`worst_factor` over ``points`` (``(x, measured ratio)``) smallest, and that
+    factor: an estimate for planning runs should be off by as little as possible at its
+    worst, not on average. Found by scanning ``c`` in steps of 0.01 up to twice the largest
+    single-point fit (the worst factor is piecewise monotone in ``c``, so the scan is within
+    a step of the optimum)."""
     top = 2 * max(max(m - 1, 0.0) / x for x, m in points) + 0.01
     grid = [i / 100 for i in range(int(top * 100) + 1)]
-    best = min(grid, key=worst)
-    return best, worst(best)
+    best = min(grid, key=lambda c: worst_factor(points, c))
+    return best, worst_factor(points, best)
