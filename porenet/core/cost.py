@@ -170,8 +170,8 @@ MINDLIN_UPDATE_SECONDS = 1.9e-7
 #: contacts and the more the medium fractures. Fitted to the n = 400 study's runs with and
 #: without sliding made with one code on one machine: the constant that keeps the worst
 #: point's median over its seeds closest (``examples/scripts/fracture_shear.py
-#: --sliding-cost``: 12 points, 24-29 pairs, c = 1.69-1.74, every median within 1.23x,
-#: every pair within 1.61x; seeds of one point differ by up to 1.4x); the form
+#: --sliding-cost``: 12 points, 24-30 pairs (30: the complete study), c = 1.69-1.74, every
+#: median within 1.23x, every pair within 1.61x; seeds of one point differ by up to 1.4x); the form
 #: ``1 + c r_t w`` came within 1.32x at best on the medians, docs/cost.md. It was 1.9,
 #: fitted to the worst pair, until 2026-12-07, and ``1 + 8 r_t w`` before the multigrid's
 #: hierarchies were built with every sliding contact stuck (11f18f4).
