@@ -64,8 +64,13 @@ def load_revision(rev: str):
     tmp = Path(tempfile.mkdtemp(prefix="porenet-mg-"))
     package = "porenet.kernels.mechanics."
     for name in ("multigrid_smoothing", "multigrid"):
-        source = subprocess.run(["git", "show", f"{rev}:porenet/kernels/mechanics/{name}.py"],
-                                cwd=root, check=True, capture_output=True, text=True).stdout
+        source = subprocess.run(
+            ["git", "show", f"{rev}:porenet/kernels/mechanics/{name}.py"],
+            cwd=root,
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout
         source = source.replace(package + "multigrid_smoothing", "revision_multigrid_smoothing")
         (tmp / f"revision_{name}.py").write_text(source)
     sys.path.insert(0, str(tmp))
@@ -79,8 +84,10 @@ def load_revision(rev: str):
 def against(rev: str, m: int, repeat: int) -> None:
     old = load_revision(rev)
     rng = np.random.default_rng(3)
-    print(f"| operator | lines | iterations ({rev}, now) | ms per iteration ({rev}) | "
-          "ms per iteration (now) | ratio | largest difference / largest value |")
+    print(
+        f"| operator | lines | iterations ({rev}, now) | ms per iteration ({rev}) | "
+        "ms per iteration (now) | ratio | largest difference / largest value |"
+    )
     print("|---|---|---|---|---|---|---|")
     for ratio, flip in ((0.1, False), (0.5, False), (0.5, True)):
         op = operator(m, ratio, 150)
@@ -104,17 +111,23 @@ def against(rev: str, m: int, repeat: int) -> None:
                 xs.append(x)
         t_old, t_new = (statistics.median(c[3][1:]) for c in cases)
         diff = np.abs(xs[-1] - xs[-2]).max() / np.abs(xs[-2]).max()
-        print(f"| K_t/K_n = {ratio:g}{', transposed' if flip else ''} | "
-              f"{'rows' if mg.smoothing_lines(op) == 1 else 'columns'} | {its[-2]}, {its[-1]} | "
-              f"{1e3 * t_old:.2f} | {1e3 * t_new:.2f} | {t_new / t_old:.2f} | {diff:.1e} |")
+        print(
+            f"| K_t/K_n = {ratio:g}{', transposed' if flip else ''} | "
+            f"{'rows' if mg.smoothing_lines(op) == 1 else 'columns'} | {its[-2]}, {its[-1]} | "
+            f"{1e3 * t_old:.2f} | {1e3 * t_new:.2f} | {t_new / t_old:.2f} | {diff:.1e} |"
+        )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--m", type=int, default=399)
     parser.add_argument("--repeat", type=int, default=5)
-    parser.add_argument("--against", default=None, metavar="REV",
-                        help="compare with the multigrid of this git revision")
+    parser.add_argument(
+        "--against",
+        default=None,
+        metavar="REV",
+        help="compare with the multigrid of this git revision",
+    )
     args = parser.parse_args()
     m = args.m
     if args.against:

@@ -58,8 +58,13 @@ def test_multigrid_and_sparse_direct_give_the_same_run(fluid):
     on the solid to round-off (the fluid's times too)."""
     runs = {
         solver: porenet.run(
-            scene(fluid=fluid, fracturing_number=3.0, shear_stiffness_ratio=0.5, solver=solver,
-                  solver_tolerance=0.0)
+            scene(
+                fluid=fluid,
+                fracturing_number=3.0,
+                shear_stiffness_ratio=0.5,
+                solver=solver,
+                solver_tolerance=0.0,
+            )
         )
         for solver in ("multigrid", "sparse-direct")
     }
@@ -166,7 +171,13 @@ def test_stiff_limit_gives_the_rigid_pattern(fluid):
         {"fracturing_number": 10.0, "shear_stiffness_ratio": 0.5, "foundation": 0.02},
     ],
     ids=[
-        "nf-1e-3", "nf-1e3", "nf-1e3-slide", "ratio-1e-3", "ratio-1", "mu-1e-6", "rotate-mu-1e-6",
+        "nf-1e-3",
+        "nf-1e3",
+        "nf-1e3-slide",
+        "ratio-1e-3",
+        "ratio-1",
+        "mu-1e-6",
+        "rotate-mu-1e-6",
         "foundation",
     ],
 )
@@ -233,16 +244,29 @@ def test_run_file_holds_the_frictional_records(tmp_path):
     ("solid", "message"),
     [
         ({"fracturing_number": 1.0}, "exactly one of 'shear_stiffness_ratio'"),
-        ({"fracturing_number": 1.0, "shear_stiffness_ratio": 0.5, "poisson_ratio": 0.2},
-         "both were given"),
+        (
+            {"fracturing_number": 1.0, "shear_stiffness_ratio": 0.5, "poisson_ratio": 0.2},
+            "both were given",
+        ),
         ({"fracturing_number": 1.0, "shear_stiffness_ratio": -0.1}, "solid.shear_stiffness_ratio"),
         ({"fracturing_number": 1.0, "poisson_ratio": 0.7}, "solid.poisson_ratio"),
-        ({"fracturing_number": 1.0, "shear_stiffness_ratio": 0.5, "friction": -1},
-         "solid.friction"),
-        ({"fracturing_number": 1.0, "shear_stiffness_ratio": 0.5, "rotation": "free",
-          "solver": "multigrid"}, "needs rotation = 'held'"),
-        ({"fracturing_number": 1.0, "shear_stiffness_ratio": 0.5, "solver": "chains"},
-         "solid.solver"),
+        (
+            {"fracturing_number": 1.0, "shear_stiffness_ratio": 0.5, "friction": -1},
+            "solid.friction",
+        ),
+        (
+            {
+                "fracturing_number": 1.0,
+                "shear_stiffness_ratio": 0.5,
+                "rotation": "free",
+                "solver": "multigrid",
+            },
+            "needs rotation = 'held'",
+        ),
+        (
+            {"fracturing_number": 1.0, "shear_stiffness_ratio": 0.5, "solver": "chains"},
+            "solid.solver",
+        ),
     ],
 )
 def test_bad_frictional_configs_name_the_field(solid, message):

@@ -250,7 +250,7 @@ class HertzMindlinSolid(HertzSolid):
                 f"contacts sliding; the largest pressure load on a particle is "
                 f"{load / self.prestress_force:.3g} times the contacts' prestress force: the "
                 "contact iteration found no bounded equilibrium (docs/stability.md, "
-                "\"Frictional contacts\", on loads far beyond the prestress)"
+                '"Frictional contacts", on loads far beyond the prestress)'
             )
 
     def _solve_increments(self, work: Any) -> int:
@@ -276,8 +276,8 @@ class HertzMindlinSolid(HertzSolid):
             raise NumericalError(
                 f"hertz-mindlin solid: the multigrid found the stiffness matrix singular ({exc}) "
                 f"in mechanical update {self.updates + 1}; normal contact stiffnesses from "
-                f"{stiff.min():.3g} to {stiff.max():.3g} K_0 (docs/stability.md, \"Frictional "
-                "contacts\")"
+                f"{stiff.min():.3g} to {stiff.max():.3g} K_0 "
+                '(docs/stability.md, "Frictional contacts")'
             ) from None
         self.hierarchy_builds += rebuilt
         if not converged:

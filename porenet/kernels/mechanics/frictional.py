@@ -187,8 +187,9 @@ class Increments(NamedTuple):
 def increments(m: int) -> Increments:
     """Empty :class:`Increments` for ``m`` springs."""
     z = np.zeros
-    return Increments(z(m), z(m), z(m), z(m), z(m, np.int8), z(m, np.int8), z(m, np.int8), z(m),
-                      z(m))
+    return Increments(
+        z(m), z(m), z(m), z(m), z(m, np.int8), z(m, np.int8), z(m, np.int8), z(m), z(m)
+    )
 
 
 @njit(helper=True)
@@ -473,9 +474,7 @@ def largest_imbalance(
 
 
 @njit
-def stored_energy(
-    springs: SpringState, shear: ShearState, law: FrictionLaw
-) -> tuple[float, float]:
+def stored_energy(springs: SpringState, shear: ShearState, law: FrictionLaw) -> tuple[float, float]:
     """Elastic energy stored in the contacts (gamma a^2): the Hertz normal energy
     ``(2/5) F h`` and the tangential ``S^2 / (2 K_t)`` of the contacts in contact."""
     normal, tangential = 0.0, 0.0

@@ -80,8 +80,12 @@ def pattern(
                    nc[keep], sc[keep], np.sort(translational))  # fmt: skip
 
 
-def matrix(pat: Pattern, normal_stiffness: np.ndarray, shear_stiffness: np.ndarray,
-           foundation_stiffness: float):
+def matrix(
+    pat: Pattern,
+    normal_stiffness: np.ndarray,
+    shear_stiffness: np.ndarray,
+    foundation_stiffness: float,
+):
     """The stiffness matrix (CSC) for the springs' normal and tangential stiffnesses."""
     from scipy.sparse import coo_matrix
 
