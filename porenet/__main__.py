@@ -1,3 +1,3 @@
-from porenet.cli import main
+from porenet.cli.main import main
 
 raise SystemExit(main())

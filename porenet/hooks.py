@@ -16,8 +16,9 @@ when a scene selects the kind. Third-party kinds must be namespaced (``"mypackag
 
 Loading policy
 --------------
-* Built-in kinds are registered through these same hooks by :mod:`porenet.builtin.plugin`,
-  loaded by name (:data:`BUILTIN_PLUGINS`) in the same loop as the entry points.
+* Built-in kinds are registered through these same hooks by the ``plugin`` module of each
+  kind's folder (``porenet/kinds/<kind>/plugin.py``), loaded by name (:data:`DEFAULT_PLUGINS`) in
+  the same loop as the entry points.
 * Entry points of the group ``porenet.plugins`` are loaded one by one; a plugin that fails to
   import or to register is reported and skipped, unless loading is strict (``strict=True``, or
   the environment variable ``PORENET_STRICT_PLUGINS=1``, or ``CI=true``), in which case the
@@ -50,9 +51,26 @@ log = logging.getLogger(__name__)
 
 PROJECT = "porenet"
 ENTRY_POINT_GROUP = "porenet.plugins"
-#: porenet's own plugins: name -> module, loaded by name first in :func:`build_registry`'s
-#: loop (docs/architecture.md, rule 1).
-BUILTIN_PLUGINS: dict[str, str] = {BUILTIN_PACKAGE: "porenet.builtin.plugin"}
+#: porenet's own plugins, one per kind: plugin name -> module, loaded by name first in
+#: :func:`build_registry`'s loop, as pytest loads its default plugins (docs/architecture.md,
+#: rule 1). The only place the core names a kind: everything else is asked of the kinds
+#: through the registry (``tests/unit/test_core_names_no_kind.py`` checks both).
+DEFAULT_PLUGINS: dict[str, str] = {
+    "porenet.square": "porenet.kinds.square.plugin",
+    "porenet.cubic": "porenet.kinds.cubic.plugin",
+    "porenet.network": "porenet.kinds.network.plugin",
+    "porenet.invasion": "porenet.kinds.invasion.plugin",
+    "porenet.viscous": "porenet.kinds.viscous.plugin",
+    "porenet.rigid": "porenet.kinds.rigid.plugin",
+    "porenet.hertz": "porenet.kinds.hertz.plugin",
+    "porenet.mindlin": "porenet.kinds.mindlin.plugin",
+    "porenet.pressure_aperture": "porenet.kinds.pressure_aperture.plugin",
+    "porenet.progress": "porenet.kinds.progress.plugin",
+    "porenet.snapshots": "porenet.kinds.snapshots.plugin",
+    "porenet.no_classifier": "porenet.kinds.no_classifier.plugin",
+    "porenet.rules": "porenet.kinds.rules.plugin",
+    "porenet.theory": "porenet.kinds.theory.plugin",
+}
 
 hookspec = pluggy.HookspecMarker(PROJECT)
 hookimpl = pluggy.HookimplMarker(PROJECT)
@@ -160,7 +178,7 @@ def build_registry(
     # plugins): nothing here imports them, so they may import this module
     candidates: list[tuple[str, str, Callable[[], Any]]] = [
         (name, BUILTIN_PACKAGE, lambda module=module: importlib.import_module(module))
-        for name, module in BUILTIN_PLUGINS.items()
+        for name, module in DEFAULT_PLUGINS.items()
     ]
     for ep in _selected_entry_points():
         dist = ep.dist.name if ep.dist is not None else ep.value.split(":")[0]

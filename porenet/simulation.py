@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from porenet._version import __version__
-from porenet.compilation import CompileNotice
 from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.interfaces import (
     Classifier,
@@ -32,9 +31,10 @@ from porenet.core.plan import Plan, make_plan, plan_summary
 from porenet.core.registry import Registry
 from porenet.core.state import State
 from porenet.core.units import Scales
-from porenet.kernels.shared.bursts import burst_sizes
+from porenet.jit.compilation import CompileNotice
+from porenet.jit.threads import CALL_SECONDS, ThreadGovernor, thread_setting
+from porenet.kernels.bursts import burst_sizes
 from porenet.result import RunData, RunResult
-from porenet.threads import CALL_SECONDS, ThreadGovernor, thread_setting
 
 if TYPE_CHECKING:  # pragma: no cover
     from porenet.io.checkpoint import CheckpointSchedule
@@ -148,10 +148,10 @@ class Simulation:
         ``progress``: show a start line and progress on stderr (a status line on a terminal,
         a line every ~30 s or ~10 % of the estimate elsewhere), and say when kernels compile.
         """
-        from porenet.builtin.observers.progress import Progress
-        from porenet.builtin.observers.runfile import RunFileWriter
         from porenet.config.loading import load_scene
         from porenet.hooks import get_registry
+        from porenet.io.progress import Progress
+        from porenet.io.writer import RunFileWriter
 
         registry = registry or get_registry()
         config = load_scene(scene, overrides, registry=registry)
@@ -348,9 +348,9 @@ class Simulation:
         """
         from pathlib import Path
 
-        from porenet.builtin.observers.progress import Progress
-        from porenet.builtin.observers.runfile import RunFileWriter
         from porenet.io.checkpoint import load_checkpoint
+        from porenet.io.progress import Progress
+        from porenet.io.writer import RunFileWriter
 
         sim, _ = load_checkpoint(path)
         if not isinstance(sim, cls):
@@ -382,7 +382,7 @@ class Simulation:
 
     def _advance(self, phase: str) -> int:
         """One call of the fluid model, on the threads the governor picks, aiming at its
-        wall time (:mod:`porenet.threads`)."""
+        wall time (:mod:`porenet.jit.threads`)."""
         fluid, governor, notice = self.fluid, self.threads, self.compile_notice
         times = [
             t for obs in self.observers if (t := obs.trigger.next_time(self.state)) is not None
@@ -546,8 +546,8 @@ class Simulation:
 
     def _outputs(self) -> dict[str, Any]:
         """The fluid model's time series (:meth:`FluidModel.outputs`) and the snapshot
-        observers' records (:mod:`porenet.builtin.observers.snapshots`), in SI."""
-        from porenet.builtin.observers.snapshots import Snapshots
+        observers' records (:mod:`porenet.kinds.snapshots.model`), in SI."""
+        from porenet.kinds.snapshots.model import Snapshots
         from porenet.result import Snapshot
 
         sc = self.scales
@@ -583,7 +583,7 @@ def _shorthand_observers(fluid_config: Any) -> list[Any]:
     times = getattr(fluid_config, "snapshot_times", None) or []
     if not saturations and not times:
         return []
-    from porenet.builtin.observers.config import SnapshotsConfig
+    from porenet.kinds.snapshots.config import SnapshotsConfig
 
     return [SnapshotsConfig(saturations=list(saturations), times=list(times))]
 

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from porenet.builtin.fluids.viscous import ViscousConfig
+from porenet.kinds.viscous.model import ViscousConfig
 from porenet.simulation import Simulation
 from porenet.testing.runs import pattern_overlap
 

@@ -33,8 +33,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from fig5 import run, shape
 
+from porenet.jit.threads import configure_threads
 from porenet.testing.runs import pattern_overlap
-from porenet.threads import configure_threads
 
 
 def main() -> None:

@@ -6,7 +6,7 @@
 Runs seed ensembles of scenes deep inside each regime of the paper's phase diagrams (labels by
 docs/model.md section 6, far from the lines Ca* = 1 and N_f = 1), measures the pattern features the
 rule-based classifier uses, and prints, per scene, their means and the labels each classifier
-gives. The thresholds of ``rules`` (porenet/builtin/classifiers/rules.py) were read off this
+gives. The thresholds of ``rules`` (porenet/kinds/rules/model.py) were read off this
 table; docs/classification.md quotes it.
 """
 
@@ -22,8 +22,8 @@ import porenet
 from porenet.analysis.classify import classify_run
 from porenet.analysis.features import pattern_features
 from porenet.analysis.numbers import capillary_number_at
-from porenet.builtin.classifiers.rules import RulesClassifier
-from porenet.builtin.classifiers.theory import TheoryClassifier
+from porenet.kinds.rules.model import RulesClassifier
+from porenet.kinds.theory.model import TheoryClassifier
 
 FEATURES = (
     "fractal_dimension",

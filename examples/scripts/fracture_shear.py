@@ -87,7 +87,7 @@ from fracture_shear_tables import (
 
 import porenet
 from porenet.analysis.features import LONG_RUN, straight_runs
-from porenet.cli_checks import check_output_file
+from porenet.cli.checks import check_output_file
 from porenet.config.loading import load_scene
 from porenet.core.cost import estimate_cost
 from porenet.core.errors import ConfigError
@@ -99,8 +99,8 @@ from porenet.io.checkpoint import (
     read_header,
     scene_digest,
 )
+from porenet.jit.threads import configure_threads
 from porenet.simulation import Simulation
-from porenet.threads import configure_threads
 
 
 def solid_of(ratio: float | None, friction: float | None, rotation: str = "held",

@@ -60,9 +60,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from porenet.analysis.numbers import fracturing_number
-from porenet.builtin.fluids.config import auto_integrator
 from porenet.core.extent import lattice_extent
 from porenet.core.sites import site_geometry
+from porenet.kinds.viscous.config import auto_integrator
 
 #: Invasion percolation, centre injection, ensemble mean drained fraction at breakthrough
 #: ``a n^-b`` with trapping (n = 25-800, 12-32 seeds each; docs/cost.md).
@@ -99,7 +99,7 @@ RKC_STAGES_PER_STEP = 10.0
 #: Local time steps (RKC, ``local_steps``): the wall time of the integration times
 #: ``LOCAL_STEPS_FACTOR[1]`` from ``LOCAL_STEPS_FACTOR[0]`` pores up (773 s single-rate ->
 #: 256 s at n = 400, Ca = 1e-5, one thread; docs/performance.md), 1 below the active box
-#: where ``auto`` starts using them (:attr:`porenet.builtin.fluids.local_steps.LocalSteps.min_box`,
+#: where ``auto`` starts using them (:attr:`porenet.kinds.viscous.local_steps.LocalSteps.min_box`,
 #: 40 000 pores: 0.69 measured at n = 200), geometric in N between.
 LOCAL_STEPS_FACTOR = (160_000, 0.33)
 LOCAL_STEPS_MIN_BOX = (40_000, 0.69)

@@ -225,7 +225,7 @@ class Lattice(ABC):
         The neighbours of pore ``p`` are ``neighbours[indptr[p]:indptr[p+1]]`` and the throats
         that lead to them ``throats[indptr[p]:indptr[p+1]]``, sorted by throat index.
         """
-        from porenet.kernels.shared.graph import csr_adjacency
+        from porenet.kernels.graph import csr_adjacency
 
         return csr_adjacency(self.throat_pores, self.n_pores)
 
@@ -297,7 +297,7 @@ class FluidModel(ABC):
     #: Wall time (s) one :meth:`advance` should aim at, where it can return without changing
     #: the run (None: no aim, the model's own chunks). The Simulation sets it before each
     #: call, so that it regains control this often (progress, observers, the choice of
-    #: threads: :mod:`porenet.threads`). A model must give the same results whatever it is.
+    #: threads: :mod:`porenet.jit.threads`). A model must give the same results whatever it is.
     call_seconds: float | None = None
 
     #: Model time (scaled) at which one :meth:`advance` must end, if the model has a time
@@ -319,7 +319,7 @@ class FluidModel(ABC):
         choice that cost about the same wall time each (the viscous model: pore sweeps of
         boxes large enough for threads); None (the default) when the model's kernels never
         use threads. The Simulation measures time per unit of it on 1 and on several
-        threads and keeps the faster (:class:`porenet.threads.ThreadGovernor`)."""
+        threads and keeps the faster (:class:`porenet.jit.threads.ThreadGovernor`)."""
         return None
 
     @abstractmethod
@@ -359,7 +359,7 @@ class FluidModel(ABC):
         """Further records, in scaled units, after :meth:`finalize`: optional key
         ``"timeseries"`` (dict of 1-D arrays named as in
         :data:`porenet.result.TIMESERIES_UNITS`). The Simulation converts them to SI.
-        (Snapshots of the fields are an observer's, :mod:`porenet.builtin.observers.
+        (Snapshots of the fields are an observer's, :mod:`porenet.kinds.observers.
         snapshots`.)"""
         return {}
 

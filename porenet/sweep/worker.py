@@ -73,7 +73,7 @@ def execute_run(task: RunTask) -> dict[str, Any]:
     logger.propagate = False
     resumed_at: int | None = None
     try:
-        from porenet.threads import configure_threads
+        from porenet.jit.threads import configure_threads
 
         configure_threads("auto", most=task.threads)
         simulation, schedule, resumed_at = start_or_resume(task)

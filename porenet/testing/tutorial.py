@@ -8,7 +8,9 @@ A plugin's ``tests/test_tutorial.py`` uses these helpers to check that
   (:func:`excerpts`, :func:`missing_pieces`);
 * every plugin file the section names exists (:func:`named_paths`);
 * the plugin imports nothing private from porenet: no module or name component starting with
-  ``_`` and nothing from ``porenet.builtin`` (:func:`porenet_imports`, :func:`private_imports`);
+  ``_``, and of porenet's own kinds only a kind's kernel package (``porenet.kinds.<kind>.
+  kernels``, whose ``__init__`` names its stable entry points), never their models, configs
+  or kernel modules (:func:`porenet_imports`, :func:`private_imports`);
 * the plugin's README lists exactly what it imports from porenet (:func:`readme_imports`).
 
 Pure Python (``ast`` and ``re``): importing it imports nothing else of porenet.
@@ -19,6 +21,9 @@ from __future__ import annotations
 import ast
 import re
 from pathlib import Path
+
+#: A kind's kernel package, the only part of porenet's own kinds a plugin may import.
+KIND_KERNELS = re.compile(r"porenet\.kinds\.\w+\.kernels")
 
 #: A line of an excerpt that stands for lines left out.
 ELISION = "# (...)"
@@ -84,10 +89,13 @@ def porenet_imports(package: str | Path) -> dict[str, set[str]]:
 
 def private_imports(imports: dict[str, set[str]]) -> list[str]:
     """The imports of :func:`porenet_imports` that are not public: a module or name component
-    starting with ``_``, or anything from ``porenet.builtin`` (porenet's own plugins)."""
+    starting with ``_``, or anything of porenet's own kinds (``porenet.kinds``) but a kind's
+    kernel package ``porenet.kinds.<kind>.kernels``, whose stable entry points its
+    ``__init__`` names."""
     bad = []
     for module, names in sorted(imports.items()):
-        if module == "porenet.builtin" or module.startswith("porenet.builtin."):
+        kind_module = module == "porenet.kinds" or module.startswith("porenet.kinds.")
+        if kind_module and not KIND_KERNELS.fullmatch(module):
             bad.append(module)
         bad += [f"{module}: {part}" for part in [*module.split("."), *sorted(names)]
                 if part.startswith("_")]  # fmt: skip

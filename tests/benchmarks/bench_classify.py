@@ -16,7 +16,7 @@ import numpy as np
 
 import porenet
 from porenet.analysis.classify import classify_run
-from porenet.builtin.classifiers.rules import RulesClassifier
+from porenet.kinds.rules.model import RulesClassifier
 
 
 def main() -> None:

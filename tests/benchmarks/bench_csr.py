@@ -7,7 +7,7 @@ most 3 minutes on the project's 2-core machine).
 
 Part 1, the kernels: a run to 300 drained pores (nearly every pore active by then), then on
 its state the list sweep's fluxes in the order the pores became active (as before the
-index-order sweep, ``DENSE_ACTIVE`` in ``porenet/kernels/viscous/diffusion.py``) and in index
+index-order sweep, ``DENSE_ACTIVE`` in ``porenet/kinds/viscous/kernels/diffusion.py``) and in index
 order, and the pressure's spread visiting every active pore (as before ``Front.settled``) and
 only the unsettled ones; medians of 20 calls. Part 2: whole runs of
 ``examples/scenes/cubic-viscous.toml``, each a new process with a warm kernel cache, with the
@@ -44,10 +44,10 @@ def _median_ms(call, repeat: int = 20) -> float:
 def kernels() -> None:
     import numba
 
-    from porenet.kernels.viscous import diffusion
-    from porenet.kernels.viscous.state import Count, Sweep
+    from porenet.jit.threads import configure_threads
+    from porenet.kinds.viscous.kernels import diffusion
+    from porenet.kinds.viscous.kernels.state import Count, Sweep
     from porenet.simulation import Simulation
-    from porenet.threads import configure_threads
 
     @numba.njit(cache=True)
     def fluxes_in_activation_order(field, p, flux):  # the list sweep before index order

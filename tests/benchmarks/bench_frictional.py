@@ -329,9 +329,9 @@ def anatomy(max_drained: int, sets: list[str], variants: list[str]) -> None:
     (``REBUILD_EDGES`` set to -1 for that run: what a preconditioner that always matched the
     operator would save in V-cycles, and cost in builds). The solves are counted by wrapping
     ``GridSolver.solve``. One thread, in this process, one run after another."""
-    from porenet.builtin.solids import grid_solver
+    from porenet.jit.threads import configure_threads
+    from porenet.kinds.mindlin import grid_solver
     from porenet.simulation import Simulation
-    from porenet.threads import configure_threads
 
     configure_threads(1)
     Simulation.from_scene(SCENE, ["lattice.n=40", "stop.max_drained=20"]).run()  # load kernels
@@ -371,8 +371,8 @@ def profile(max_drained: int, top: int, sets: list[str]) -> None:
     import cProfile
     import pstats
 
+    from porenet.jit.threads import configure_threads
     from porenet.simulation import Simulation
-    from porenet.threads import configure_threads
 
     configure_threads(1)
     Simulation.from_scene(SCENE, ["lattice.n=40", "stop.max_drained=20"]).run()  # load kernels
@@ -448,14 +448,14 @@ def sweep_cost() -> None:
 def sparse_cost(ns: list[int]) -> None:
     """One sparse direct solve of the system with free rotations at each size: the stiffness
     matrix of the first update of the scene with ``solid.rotation = free``, factored by
-    SuperLU as ``porenet.kernels.mechanics.frictional_sparse.solve`` does it."""
+    SuperLU as ``porenet.kinds.mindlin.kernels.frictional_sparse.solve`` does it."""
     import resource
 
     from scipy.sparse.linalg import splu
 
-    from porenet.kernels.mechanics import frictional_sparse
+    from porenet.jit.threads import configure_threads
+    from porenet.kinds.mindlin.kernels import frictional_sparse
     from porenet.simulation import Simulation
-    from porenet.threads import configure_threads
 
     configure_threads(1)
 

@@ -10,7 +10,7 @@ seed 0), full invasion (stop at "complete"):
 
 * ``porenet run``: ``Simulation.run()`` after the lattice is built (adjacency, sort, invasion,
   trapping, records, summary): what a user waits for, less the aperture draw;
-* ``kernel``: ``porenet.kernels.invasion.ip.invasion_sequence`` alone;
+* ``kernel``: ``porenet.kinds.invasion.kernels.ip.invasion_sequence`` alone;
 * ``openpnm``: OpenPNM's ``InvasionPercolation.run()`` plus ``apply_trapping()`` on the same
   apertures (``tests/benchmarks/openpnm_ip.py``), after its numba warm-up, and checks that both
   give the same invasion order.
@@ -37,7 +37,7 @@ from openpnm_ip import openpnm_available, openpnm_invasion
 from porenet.config.loading import load_scene
 from porenet.core.plan import make_plan
 from porenet.hooks import get_registry
-from porenet.kernels.invasion import ip
+from porenet.kinds.invasion.kernels import ip
 from porenet.simulation import Simulation
 
 
@@ -153,7 +153,7 @@ def main() -> None:
                     f"same order: {same}  drained {result.summary['n_drained']}",
                     flush=True,
                 )
-    from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
+    from porenet.kinds.square.model import SquareLattice, SquareLatticeConfig
     from porenet.testing.reference import reference_invasion
 
     n = min(args.sizes)

@@ -8,10 +8,10 @@ Full invasion (``stop_at_outlet=False``, ``max_steps=n_pores``) of an n x n squa
 the centre pore, outlet = the outer ring, apertures uniform in [0.7a, 1.3a] (seed 0), with and
 without trapping. Every number is a median over ``--repeat`` runs in this process after a
 warm-up run (numba compilation or cache load excluded). The stages are the pieces that
-``porenet.kernels.invasion.ip.invasion_sequence`` runs (with the padded adjacency layout it picks
-for the square lattice), timed separately on the same inputs; "total" is ``invasion_sequence``
-itself, timed in a separate round (so the stages need not add up to it exactly: the small rest
-is argument checks, allocations and copies).
+``porenet.kinds.invasion.kernels.ip.invasion_sequence`` runs (with the padded adjacency layout it
+picks for the square lattice), timed separately on the same inputs; "total" is ``invasion_sequence``
+itself, timed in a separate round (so the stages need not add up to it exactly: the small rest is
+argument checks, allocations and copies).
 
 With ``--baseline REV`` the kernels of git revision REV (``porenet/kernels`` only) are copied
 to a cache directory as package ``porenet_baseline`` and timed in the same process, with the
@@ -34,9 +34,9 @@ from pathlib import Path
 
 import numpy as np
 
-from porenet.builtin.lattices.square import canonical_throats
-from porenet.kernels.invasion import ip
-from porenet.kernels.shared.graph import csr_adjacency, max_degree, rank_pairs
+from porenet.kernels.graph import csr_adjacency, max_degree, rank_pairs
+from porenet.kinds.invasion.kernels import ip
+from porenet.kinds.square.model import canonical_throats
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -149,7 +149,7 @@ def load_baseline(rev: str):
             target.parent.mkdir(parents=True, exist_ok=True)
             target.write_text(text)
     sys.path.insert(0, str(root))
-    # the kernels moved into subpackages by model (porenet/kernels/invasion/ip.py) in 2026-12
+    # the kernels moved into subpackages by model (porenet/kinds/invasion/kernels/ip.py) in 2026-12
     for name in ("porenet_baseline.kernels.invasion.ip", "porenet_baseline.kernels.ip"):
         try:
             return importlib.import_module(name), sha[:12]

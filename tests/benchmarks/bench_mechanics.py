@@ -111,7 +111,7 @@ def main() -> None:
         f"median of {args.repeat}; {one_pore.lines} lines solved"  # type: ignore[attr-defined]
     )
     if args.sparse:
-        from porenet.kernels.mechanics import springs as mk
+        from porenet.kinds.hertz.kernels import springs as mk
 
         h, force = state0.spring_compression, state0.spring_force
         load = np.zeros_like(solid._xy)

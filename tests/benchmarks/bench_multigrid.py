@@ -9,7 +9,7 @@ x-springs, +-50 % disorder) and ~r_t K across rows, with a cross of open contact
 of the others) of half-length 150 at the centre; a right-hand side of 40 point forces. For
 each stiffness ratio, the hierarchy's build time, then the conjugate gradient solve from zero
 to round-off and to a deformation tolerance of 1e-3 a, with the smoother relaxing the lines of
-the strong direction only (the default, :func:`porenet.kernels.mechanics.multigrid.
+the strong direction only (the default, :func:`porenet.kinds.mindlin.kernels.multigrid.
 smoothing_lines`) and both directions (rows, then columns): iterations and median wall time
 (docs/model.md, "Solver", quotes it).
 
@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from porenet.kernels.mechanics import multigrid as mg
+from porenet.kinds.mindlin.kernels import multigrid as mg
 
 
 def operator(m: int, ratio: float, crack: int, seed: int = 1) -> mg.Operator:
@@ -62,10 +62,10 @@ def load_revision(rev: str):
     """The multigrid module of git revision ``rev``, importing that revision's smoother."""
     root = Path(__file__).resolve().parents[2]
     tmp = Path(tempfile.mkdtemp(prefix="porenet-mg-"))
-    package = "porenet.kernels.mechanics."
+    package = "porenet.kinds.hertz.kernels."
     for name in ("multigrid_smoothing", "multigrid"):
         source = subprocess.run(
-            ["git", "show", f"{rev}:porenet/kernels/mechanics/{name}.py"],
+            ["git", "show", f"{rev}:porenet/kinds/hertz/kernels/{name}.py"],
             cwd=root,
             check=True,
             capture_output=True,

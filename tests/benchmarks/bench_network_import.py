@@ -29,8 +29,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "unit"))
 
 from network_helpers import jittered_cubic
 
-from porenet.builtin.lattices.network import NetworkLattice
-from porenet.builtin.lattices.network_config import NetworkLatticeConfig
+from porenet.kinds.network.config import NetworkLatticeConfig
+from porenet.kinds.network.model import NetworkLattice
 
 
 def _text(rows: np.ndarray, fmt: str) -> str:

@@ -5,12 +5,12 @@
 
 Runs the scene of ``bench_implicit.py`` (seed 1, lambda = 0.3, ``integrator = "rkc"``) until
 ``--drained`` pores have drained, then times, on that state and with the next step's length,
-each piece of work :func:`porenet.kernels.viscous.rkc.rkc_advance` does per RKC step besides its
-stage sweeps: the box check, the candidate listing, the first stage's increment, the
+each piece of work :func:`porenet.kinds.viscous.kernels.rkc.rkc_advance` does per RKC step besides
+its stage sweeps: the box check, the candidate listing, the first stage's increment, the
 unlisted-meniscus check over the front, the error estimate (a flux sweep and
-:func:`porenet.kernels.viscous.rkc_step.step_error`), ``p += ds``; and, for scale, one flux sweep,
-one stage sweep and the whole of :func:`porenet.kernels.viscous.rkc_step.imex_stages`. Each is
-repeated inside one compiled loop (no dispatch cost); medians of 5 rounds.
+:func:`porenet.kinds.viscous.kernels.rkc_step.step_error`), ``p += ds``; and, for scale, one flux
+sweep, one stage sweep and the whole of :func:`porenet.kinds.viscous.kernels.rkc_step.imex_stages`.
+Each is repeated inside one compiled loop (no dispatch cost); medians of 5 rounds.
 """
 
 from __future__ import annotations
@@ -22,20 +22,20 @@ from pathlib import Path
 
 import numpy as np
 
-from porenet.kernels.jit import njit
-from porenet.kernels.viscous.chebyshev import stage_count, sweep
-from porenet.kernels.viscous.diffusion import grow_where_reached
-from porenet.kernels.viscous.menisci import meniscus_fluxes, undrained_pore
-from porenet.kernels.viscous.rkc import Slot, _add_active, _list_candidates, _unlist
-from porenet.kernels.viscous.rkc_step import (
+from porenet.jit.jit import njit
+from porenet.kinds.viscous.kernels.chebyshev import stage_count, sweep
+from porenet.kinds.viscous.kernels.diffusion import grow_where_reached
+from porenet.kinds.viscous.kernels.menisci import meniscus_fluxes, undrained_pore
+from porenet.kinds.viscous.kernels.rkc import Slot, _add_active, _list_candidates, _unlist
+from porenet.kinds.viscous.kernels.rkc_step import (
     Stages,
     StepStart,
     _scaled_rate,
     imex_stages,
     step_error,
 )
-from porenet.kernels.viscous.state import Count, Menisci, Pump, Sweep, Total, new_scratch
-from porenet.kernels.viscous.window import no_window
+from porenet.kinds.viscous.kernels.state import Count, Menisci, Pump, Sweep, Total, new_scratch
+from porenet.kinds.viscous.kernels.window import no_window
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_implicit import scene
@@ -93,7 +93,7 @@ def _stages(reps, h, m, field, start, n_on, menisci0, pump0, stages, win):
 
 @njit
 def _front_checks(reps, front, nf, tp, drained, cand, ps, p, ds, pe):
-    """The unlisted-meniscus check of :func:`porenet.kernels.viscous.rkc.rkc_advance`."""
+    """The unlisted-meniscus check of :func:`porenet.kinds.viscous.kernels.rkc.rkc_advance`."""
     c = 0
     for _ in range(reps):
         for s in range(nf):

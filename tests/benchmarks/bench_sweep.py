@@ -3,7 +3,7 @@
     python tests/benchmarks/bench_sweep.py                     # n = 400
     python tests/benchmarks/bench_sweep.py --baseline 02a3cfb  # also the sweep of REV
 
-Times ``porenet.kernels.viscous.diffusion.grid_sweep`` on the full box of an n x n grid:
+Times ``porenet.kinds.viscous.kernels.diffusion.grid_sweep`` on the full box of an n x n grid:
 conductances uniform in [0.5, 2] (seed 0), outlet links on the outer ring, unit pore volumes, random
 pressures. Medians over ``--repeat`` rounds of 50 sweeps, after a warm-up. With
 ``--baseline REV`` the sweep of git revision REV is timed next, in the same process, and its
@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from porenet.kernels.viscous import diffusion
-from porenet.kernels.viscous.state import Sweep
+from porenet.kinds.viscous.kernels import diffusion
+from porenet.kinds.viscous.kernels.state import Sweep
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_kernels import load_baseline

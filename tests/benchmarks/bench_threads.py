@@ -4,10 +4,10 @@
     python tests/benchmarks/bench_threads.py --threads 1
 
 Times the serial and the parallel compilation of the row loops of the RKC stage sweep
-(``porenet.kernels.viscous.chebyshev._stage_rows_serial`` and ``_stage_rows_parallel``, what
+(``porenet.kinds.viscous.kernels.chebyshev._stage_rows_serial`` and ``_stage_rows_parallel``, what
 ``grid_stage`` picks between at ``PARALLEL_MIN`` pores) and of the explicit sweep
-(``porenet.kernels.viscous.diffusion._sweep_rows_*``, ``grid_sweep``'s) on square boxes of an n x n
-grid: conductances uniform in [0.5, 2] (seed 0), no outlet, random volumes and pressures.
+(``porenet.kinds.viscous.kernels.diffusion._sweep_rows_*``, ``grid_sweep``'s) on square boxes of an
+n x n grid: conductances uniform in [0.5, 2] (seed 0), no outlet, random volumes and pressures.
 Medians of ``--repeat`` single calls after a warm-up; the parallel one runs on ``--threads``
 threads. Both give the same bits (checked).
 """
@@ -19,9 +19,9 @@ import time
 
 import numpy as np
 
-from porenet.kernels.jit import PARALLEL_MIN, set_threads
-from porenet.kernels.viscous import chebyshev, diffusion
-from porenet.kernels.viscous.state import Sweep
+from porenet.jit.jit import PARALLEL_MIN, set_threads
+from porenet.kinds.viscous.kernels import chebyshev, diffusion
+from porenet.kinds.viscous.kernels.state import Sweep
 
 
 def median_us(call, repeat: int) -> float:

@@ -34,8 +34,8 @@ import argparse
 import time
 from pathlib import Path
 
+from porenet.jit.threads import configure_threads
 from porenet.simulation import Simulation
-from porenet.threads import configure_threads
 
 SCENE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "fig1b.toml"
 

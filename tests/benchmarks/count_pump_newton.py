@@ -3,9 +3,9 @@
     python tests/benchmarks/count_pump_newton.py            # Ca = 0.1, lambda = 0.55, n = 60
 
 Runs the viscous model with numba disabled (pure Python, ~1-2 min) and wraps
-:func:`porenet.kernels.viscous.menisci.invader_pressure` to count the residual evaluations of each
-solve: the number behind docs/performance.md's "~7 iterations per solve, ~40 before" (run it
-at a commit before the fix, e.g. in a git worktree, for the second number).
+:func:`porenet.kinds.viscous.kernels.menisci.invader_pressure` to count the residual evaluations of
+each solve: the number behind docs/performance.md's "~7 iterations per solve, ~40 before" (run it at
+a commit before the fix, e.g. in a git worktree, for the second number).
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ os.environ["NUMBA_DISABLE_JIT"] = "1"  # before numba is imported
 
 import numpy as np
 
-import porenet.kernels.viscous.explicit as viscous
-import porenet.kernels.viscous.menisci as menisci
+import porenet.kinds.viscous.kernels.explicit as viscous
+import porenet.kinds.viscous.kernels.menisci as menisci
 from porenet.simulation import run
 
 SCENE = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "scenes", "fig1b.toml")

@@ -5,14 +5,14 @@
 
 Runs the scene of ``bench_implicit.py`` (seed 1, lambda = 0.3, ``integrator = "rkc"``) until
 ``--drained`` pores have drained (the run stops just after a landing), then, from that state,
-computes one RKC step of each length in ``--steps`` (:func:`porenet.kernels.viscous.rkc_step.
-imex_stages`, the step's stage count by :func:`porenet.kernels.viscous.chebyshev.stage_count`) and
-the RKC local error estimate of every pore, ``|-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (as
-:func:`porenet.kernels.viscous.rkc_step.step_error`, without the menisci's implicit part). Prints,
-for each step, how many pores exceed the tolerance (``fluid.tolerance`` times the entry-pressure
-spread) and 5 % of it, and their largest lattice (Manhattan) distance from the pore that just
-drained: the radius a window around the newest landing would need for the rest of the lattice
-to take that step within the tolerance. Nothing is written back into the run.
+computes one RKC step of each length in ``--steps`` (:func:`porenet.kinds.viscous.kernels.rkc_step.
+imex_stages`, the step's stage count by :func:`porenet.kinds.viscous.kernels.chebyshev.stage_count`)
+and the RKC local error estimate of every pore, ``|-0.8 ds + 0.4 h (F(y_n) + F(y_n+1)) / V|`` (as
+:func:`porenet.kinds.viscous.kernels.rkc_step.step_error`, without the menisci's implicit part).
+Prints, for each step, how many pores exceed the tolerance (``fluid.tolerance`` times the
+entry-pressure spread) and 5 % of it, and their largest lattice (Manhattan) distance from the pore
+that just drained: the radius a window around the newest landing would need for the rest of the
+lattice to take that step within the tolerance. Nothing is written back into the run.
 """
 
 from __future__ import annotations
@@ -27,12 +27,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_implicit import scene
 
 from porenet.core.errors import ConfigError
-from porenet.kernels.viscous.chebyshev import stage_count, sweep
-from porenet.kernels.viscous.menisci import meniscus_fluxes
-from porenet.kernels.viscous.rkc import _list_candidates
-from porenet.kernels.viscous.rkc_step import Stages, StepStart, imex_stages
-from porenet.kernels.viscous.state import Count, Menisci, Pump, Sweep, Total, new_scratch
-from porenet.kernels.viscous.window import no_window
+from porenet.kinds.viscous.kernels.chebyshev import stage_count, sweep
+from porenet.kinds.viscous.kernels.menisci import meniscus_fluxes
+from porenet.kinds.viscous.kernels.rkc import _list_candidates
+from porenet.kinds.viscous.kernels.rkc_step import Stages, StepStart, imex_stages
+from porenet.kinds.viscous.kernels.state import Count, Menisci, Pump, Sweep, Total, new_scratch
+from porenet.kinds.viscous.kernels.window import no_window
 from porenet.simulation import Simulation
 
 ZERO = (0.0, 0.0, 0.0, 0.0)

@@ -21,10 +21,10 @@ from pathlib import Path
 import numpy as np
 
 import porenet
-from porenet.builtin.solids import mindlin
 from porenet.core.errors import NumericalError
-from porenet.kernels.mechanics.springs import OPEN
-from porenet.threads import configure_threads
+from porenet.jit.threads import configure_threads
+from porenet.kinds.hertz.kernels.springs import OPEN
+from porenet.kinds.mindlin import model as mindlin
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
 

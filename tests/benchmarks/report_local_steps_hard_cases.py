@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "verification"))
 
 from test_viscous_integrators import INTEGRATORS
 
-from porenet.builtin.fluids.local_steps import LocalSteps
+from porenet.kinds.viscous.local_steps import LocalSteps
 from porenet.testing.runs import simulate
 
 

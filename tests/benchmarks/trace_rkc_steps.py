@@ -25,10 +25,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_implicit import scene
 
-from porenet.builtin.fluids.viscous import MENISCUS_LENGTH
 from porenet.core.errors import ConfigError
-from porenet.kernels.viscous.rkc import Slot
-from porenet.kernels.viscous.state import Count, Total
+from porenet.kinds.viscous.kernels.rkc import Slot
+from porenet.kinds.viscous.kernels.state import Count, Total
+from porenet.kinds.viscous.model import MENISCUS_LENGTH
 from porenet.simulation import Simulation
 
 

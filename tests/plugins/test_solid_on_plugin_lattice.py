@@ -9,8 +9,8 @@ from typing import Literal
 
 import numpy as np
 
-from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
 from porenet.hooks import build_registry, hookimpl
+from porenet.kinds.square.model import SquareLattice, SquareLatticeConfig
 from porenet.simulation import Simulation
 
 ANGLE = np.pi / 6

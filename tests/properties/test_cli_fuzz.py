@@ -5,7 +5,7 @@ reason), never a traceback, never "internal error"; a run that is valid (and che
 plan's estimate) writes a run file whose numbers are finite, except those documented to be
 nan (:data:`MAY_BE_NAN`).
 
-The command runs in this process (``porenet.cli.main``), from one of four scenes (each model
+The command runs in this process (``porenet.cli.main.main``), from one of four scenes (each model
 on an 8 x 8 lattice, :data:`BASES`) with keys mostly among their own kinds' fields, so that
 many examples are valid and an example costs milliseconds; a scene the fuzzer makes larger
 or slower than :data:`RUN_SECONDS` by the plan's estimate is validated and planned, not run.
@@ -28,7 +28,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from porenet.cli import main
+from porenet.cli.main import main
 
 #: The scenes the fuzzer starts from: each model on an 8 x 8 lattice.
 BASES = {

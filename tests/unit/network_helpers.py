@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from porenet.builtin.lattices.network_files import NetworkData
+from porenet.kinds.network.files import NetworkData
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "networks" / "delaunay-2d.npz"
 

@@ -40,7 +40,7 @@ def porenet(*args: str, timeout: float = 120) -> subprocess.CompletedProcess[str
 def porenet_here(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str]:
     """The command line in this process (for the many cases that end before any run): exit
     status and stderr."""
-    from porenet.cli import main
+    from porenet.cli.main import main
 
     status = main(list(args))
     return status, capsys.readouterr().err

@@ -11,7 +11,7 @@ import pytest
 import porenet
 from porenet.analysis.classify import SUMMARY_KEYS, classify_run
 from porenet.analysis.regimes import REGIMES
-from porenet.cli import main
+from porenet.cli.main import main
 from porenet.core.errors import PluginError
 from porenet.core.interfaces import Classification, Classifier
 from porenet.io.runfile import read_run
@@ -179,8 +179,8 @@ def test_plain_fr_without_a_vote_takes_the_theory_prediction(ip_file):
 def test_classifying_a_run_file_needs_only_the_file(tmp_path, monkeypatch):
     """The plan's prediction is stored with the run (``plan_*`` in /summary), and the theory
     classifier reads it: classifying the file plans nothing again."""
-    from porenet.builtin.classifiers.theory import TheoryClassifier
     from porenet.io.runfile import read_run
+    from porenet.kinds.theory.model import TheoryClassifier
     from porenet.simulation import Simulation
 
     scene = {"seed": 3, "lattice": {"n": 20, "disorder": 0.3},

@@ -8,7 +8,7 @@ import h5py
 import numpy as np
 import pytest
 
-from porenet.cli import main
+from porenet.cli.main import main
 
 SCENE = """
 name = "cli"
@@ -135,7 +135,7 @@ def test_run_says_at_once_what_it_runs_and_quiet_silences_it(write_scene, tmp_pa
 
 
 def test_compile_command(capsys, monkeypatch):
-    from porenet import warmup
+    from porenet.jit import warmup
 
     tiny = (warmup.WARM_UPS[0],)
     monkeypatch.setattr(warmup, "WARM_UPS", tiny)
@@ -203,7 +203,7 @@ def test_an_error_that_follows_ctrl_c_is_reported_as_the_interruption(monkeypatc
     import os
     import signal
 
-    import porenet.cli as cli
+    import porenet.cli.main as cli
 
     def swallowed_then_failed(args):
         with contextlib.suppress(KeyboardInterrupt):  # as ctypes drops it in a callback
@@ -228,7 +228,7 @@ def test_ctrl_c_that_a_ctypes_callback_dropped_still_interrupts(monkeypatch, cap
     import sys
     import time
 
-    import porenet.cli as cli
+    import porenet.cli.main as cli
 
     libc = ctypes.CDLL(ctypes.util.find_library("c"))
     compare = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)
@@ -263,7 +263,7 @@ def test_ctrl_c_that_a_library_swallowed_is_reported(monkeypatch, capsys):
     import signal
     import time
 
-    import porenet.cli as cli
+    import porenet.cli.main as cli
 
     def swallowed_then_done(args):
         try:  # as C code that calls Python and clears its error
@@ -291,7 +291,7 @@ def test_an_interrupt_that_escaped_an_exec_string_still_exits_130(tmp_path):
     import sys
 
     (tmp_path / "interrupted_in_built_code.py").write_text(
-        "import porenet.cli as cli\n"
+        "import porenet.cli.main as cli\n"
         "def command(args):\n"
         "    exec('raise KeyboardInterrupt')\n"
         "cli.COMMANDS['validate'] = command\n"

@@ -1,5 +1,5 @@
 """What the command checks before it works, and how it reports what no check foresaw
-(porenet/cli_checks.py; docs/reliability.md, "Memory and picture size", "Exit status")."""
+(porenet/cli/checks.py; docs/reliability.md, "Memory and picture size", "Exit status")."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import errno
 
 import pytest
 
-from porenet import cli_checks
-from porenet.cli import main
+from porenet.cli import checks as cli_checks
+from porenet.cli.main import main
 from porenet.core.errors import ConfigError
 
 SCENE = '[lattice]\nn = 10\ndisorder = 0.3\n[fluid]\nkind = "invasion-percolation"\n'

@@ -1,4 +1,4 @@
-"""The command line's description (porenet.cli_parser) and what runs it (porenet.cli) agree:
+"""The command line's description (porenet.cli.parser) and what runs it (porenet.cli.main) agree:
 every command the parser offers has its function, and no function is unreachable."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import sys
 
 import pytest
 
-from porenet.cli import COMMANDS
-from porenet.cli_parser import build_parser
+from porenet.cli.main import COMMANDS
+from porenet.cli.parser import build_parser
 
 
 def test_every_command_has_its_function_and_every_function_its_command(
@@ -26,7 +26,7 @@ def test_every_command_has_its_function_and_every_function_its_command(
 
 def test_the_parser_imports_nothing_heavy() -> None:
     code = (
-        "import sys, porenet.cli_parser as p; p.build_parser(); "
+        "import sys, porenet.cli.parser as p; p.build_parser(); "
         "print(sorted(m for m in ('numpy', 'numba', 'scipy', 'h5py', 'matplotlib') "
         "if m in sys.modules))"
     )

@@ -6,9 +6,9 @@ import io
 
 import numba
 
-from porenet.compilation import CompileNotice
 from porenet.config.loading import load_scene
-from porenet.warmup import WARM_UPS
+from porenet.jit.compilation import CompileNotice
+from porenet.jit.warmup import WARM_UPS
 
 
 def _fresh_kernel():

@@ -10,10 +10,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.builtin.lattices.config import CubicLatticeConfig, SquareLatticeConfig
-from porenet.builtin.lattices.cubic import CubicLattice
-from porenet.builtin.lattices.square import SquareLattice
 from porenet.core.errors import ConfigError
+from porenet.kinds.cubic.config import CubicLatticeConfig
+from porenet.kinds.cubic.model import CubicLattice
+from porenet.kinds.square.config import SquareLatticeConfig
+from porenet.kinds.square.model import SquareLattice
 from porenet.simulation import Simulation
 
 

@@ -1,4 +1,4 @@
-"""The complementarity conditions of one implicit step (porenet.builtin.fluids.implicit_solve):
+"""The complementarity conditions of one implicit step (porenet.kinds.viscous.implicit_solve):
 which meniscus states :func:`switch` changes, checked case by case against the conditions of
 docs/model.md section 4 (OFF needs D' <= pe; SLIDE needs 0 <= q <= G pe; ON needs D' >= pe; a
 latched meniscus is ON while D' > 0), and the rule of one sliding meniscus per pore."""
@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from porenet.builtin.fluids.implicit_solve import OFF, ON, SLIDE, one_slide_per_pore, switch
+from porenet.kinds.viscous.implicit_solve import OFF, ON, SLIDE, one_slide_per_pore, switch
 
 TOL = 1e-10
 

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 from network_helpers import EXAMPLE, example_dict, jittered_cubic, write_npz, write_statoil
 
-from porenet.builtin.lattices.network import NetworkLattice, shape_factors
-from porenet.builtin.lattices.network_config import NetworkLatticeConfig
-from porenet.builtin.lattices.network_files import read_network
 from porenet.config.loading import load_scene
 from porenet.core.errors import ConfigError
-from porenet.kernels.shared.text import parse_numbers
+from porenet.kernels.text import parse_numbers
+from porenet.kinds.network.config import NetworkLatticeConfig
+from porenet.kinds.network.files import read_network
+from porenet.kinds.network.model import NetworkLattice, shape_factors
 from porenet.simulation import Simulation
 
 A = 8e-6  # the length unit a of these tests (m)
@@ -265,16 +265,15 @@ def test_isolated_pores_are_kept_and_never_drain(tmp_path):
 
 def test_validation_imports_no_numerics():
     code = (
-        "import json, sys; from porenet.cli import main; "
+        "import json, sys; from porenet.cli.main import main; "
         f"status = main(['validate', {str(EXAMPLE.parents[1] / 'scenes' / 'network.toml')!r}]); "
         "print(json.dumps([status, sorted(m for m in sys.modules if m.startswith(('numba', "
-        "'scipy', 'porenet.kernels', 'porenet.builtin.lattices.network', 'h5py')))]))"
+        "'scipy', 'porenet.kernels', 'porenet.kinds.network.model', 'h5py')))]))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     status, heavy = json.loads(out.stdout.strip().splitlines()[-1])
     assert status == 0
-    assert heavy == ["porenet.builtin.lattices.network_config",
-                     "porenet.builtin.lattices.network_files"]  # fmt: skip
+    assert heavy == []  # the network's config and file reader are light; its model is not
 
 
 # -- bad files ------------------------------------------------------------------------------

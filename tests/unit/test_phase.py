@@ -25,7 +25,7 @@ from porenet.analysis.phase import (
     points_table,
     regime_dimensions,
 )
-from porenet.cli import main
+from porenet.cli.main import main
 from porenet.core.errors import ConfigError
 from porenet.sweep.records import read_summary
 from porenet.viz.phase import MARKERS, plot_dimension_curve, plot_phase_diagram

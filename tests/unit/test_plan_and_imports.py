@@ -44,7 +44,7 @@ def test_apertures_never_change_in_rigid_medium(scene_dict):
 def test_import_porenet_loads_no_plugin_numba_h5py_matplotlib():
     code = (
         "import sys, porenet; "
-        "heavy = [m for m in ('numba', 'h5py', 'matplotlib', 'porenet.builtin', 'pluggy') "
+        "heavy = [m for m in ('numba', 'h5py', 'matplotlib', 'porenet.kinds', 'pluggy') "
         "if m in sys.modules]; print(heavy)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
@@ -70,21 +70,21 @@ HEAVY_PACKAGES = (
     "porenet.analysis.fractal",
 )
 #: The built-ins' implementation modules: a light command imports only their configs
-#: (``porenet/builtin/*/config.py``).
+#: (``porenet/kinds/*/config.py``).
 IMPLEMENTATIONS = (
-    "porenet.builtin.lattices.square",
-    "porenet.builtin.fluids.invasion_percolation",
-    "porenet.builtin.fluids.viscous",
-    "porenet.builtin.fluids.local_steps",
-    "porenet.builtin.solids.hertz",
-    "porenet.builtin.couplers.pressure_aperture",
-    "porenet.builtin.observers.progress",
-    "porenet.builtin.observers.runfile",
-    "porenet.builtin.classifiers.rules",
-    "porenet.builtin.classifiers.theory",
+    "porenet.kinds.square.model",
+    "porenet.kinds.invasion.model",
+    "porenet.kinds.viscous.model",
+    "porenet.kinds.viscous.local_steps",
+    "porenet.kinds.hertz.model",
+    "porenet.kinds.pressure_aperture.model",
+    "porenet.io.progress",
+    "porenet.io.writer",
+    "porenet.kinds.rules.model",
+    "porenet.kinds.theory.model",
 )
 
-#: Run in a fresh interpreter: ``import porenet`` (argv null) or ``porenet.cli.main(argv)``
+#: Run in a fresh interpreter: ``import porenet`` (argv null) or ``porenet.cli.main.main(argv)``
 #: (its output swallowed), then report the exit status and every loaded module as JSON.
 _PROBE = """
 import contextlib, io, json, sys
@@ -93,7 +93,7 @@ status = None
 if argv is None:
     import porenet
 else:
-    from porenet.cli import main
+    from porenet.cli.main import main
     with contextlib.redirect_stdout(io.StringIO()):
         try:
             status = main(argv)
@@ -138,7 +138,7 @@ def test_light_commands_import_no_numerics_plotting_or_implementation(argv):
     assert heavy == []
     assert [m for m in modules if m in IMPLEMENTATIONS] == []
     if argv is not None and argv != ["--help"]:  # the schema was built from every config
-        assert {"porenet.builtin.plugin", "porenet.builtin.fluids.config"} <= set(modules)
+        assert {"porenet.kinds.square.plugin", "porenet.kinds.viscous.config"} <= set(modules)
 
 
 def test_a_fluid_model_that_stalls_is_reported_not_a_hang(scene_dict):

@@ -7,10 +7,10 @@ from typing import Literal
 
 import pytest
 
-from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
 from porenet.core.errors import ConfigError, PluginError
 from porenet.core.registry import Registry
 from porenet.hooks import build_registry, hookimpl
+from porenet.kinds.square.model import SquareLattice, SquareLatticeConfig
 
 
 def plugin_module(**hooks):
@@ -41,7 +41,7 @@ def test_builtins_registered_through_hooks(monkeypatch):
 
 def test_third_party_kind_and_lazy_implementation():
     def porenet_register_lattices(register):
-        register(NamespacedConfig, "porenet.builtin.lattices.square:SquareLattice")
+        register(NamespacedConfig, "porenet.kinds.square.model:SquareLattice")
 
     reg = load_with("demo", strict=True, porenet_register_lattices=porenet_register_lattices)
     entry = reg.get("lattice", "demo.square")

@@ -84,7 +84,7 @@ class Case:
     interrupt : str, optional
         Send SIGINT once stderr shows this.
     in_process : bool
-        Call ``porenet.cli.main`` with the same arguments in the case's directory instead of
+        Call ``porenet.cli.main.main`` with the same arguments in the case's directory instead of
         starting ``python -m porenet`` (set from :data:`IN_PROCESS`).
     """
 
@@ -436,11 +436,11 @@ def command(case: Case) -> list[str]:
 
 
 def run_in_process(case: Case, directory: Path) -> subprocess.CompletedProcess[str]:
-    """``porenet.cli.main(case.argv)`` in ``directory``, its output captured."""
+    """``porenet.cli.main.main(case.argv)`` in ``directory``, its output captured."""
     import contextlib
     import io
 
-    from porenet.cli import main
+    from porenet.cli.main import main
 
     out, err = io.StringIO(), io.StringIO()
     cwd = Path.cwd()
@@ -549,7 +549,7 @@ def outcomes(tmp_path_factory, module_tmpfs) -> dict[str, Outcome]:
     tmpfs mounts stay until the module's tests have looked at them)."""
     from concurrent.futures import ThreadPoolExecutor
 
-    from porenet.cli import main
+    from porenet.cli.main import main
 
     template = tmp_path_factory.mktemp("template")
     (template / "scene.toml").write_text(TINY)

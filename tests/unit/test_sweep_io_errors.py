@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 import porenet
-from porenet.cli import main
+from porenet.cli.main import main
 from porenet.core.errors import RunFileError
 from porenet.io.runfile import read_run
 from porenet.sweep import run_sweep

@@ -14,7 +14,7 @@ import sys
 
 import pytest
 
-from porenet.cli import main
+from porenet.cli.main import main
 from porenet.sweep import lock as sweep_lock
 from porenet.sweep.lock import LOCK_FILE, DirectoryLock, LockHolder, SweepLocked
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from porenet.cli import main
+from porenet.cli.main import main
 from porenet.core.errors import ConfigError
 from porenet.io.runfile import read_run
 from porenet.sweep import runner

@@ -104,13 +104,13 @@ def test_imports_private_names_and_readme(tree):
     assert tutorial.readme_imports(tree / "pkg" / "README.md") == imports
     bad = {
         "porenet._version": {"__version__"},
-        "porenet.builtin.solids.hertz": {"HertzSolid"},
+        "porenet.kinds.hertz.model": {"HertzSolid"},
         "porenet.simulation": {"_shorthand_observers"},
     }
     assert tutorial.private_imports(bad) == [
         "porenet._version: _version",
         "porenet._version: __version__",
-        "porenet.builtin.solids.hertz",
+        "porenet.kinds.hertz.model",
         "porenet.simulation: _shorthand_observers",
     ]
     (tree / "pkg" / "more.py").write_text("import porenet.core.state\n")

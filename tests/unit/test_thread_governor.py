@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from porenet.threads import (
+from porenet.jit.threads import (
     CallPace,
     ThreadGovernor,
     ThreadSetting,

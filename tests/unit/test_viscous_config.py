@@ -7,10 +7,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from porenet.builtin.fluids.viscous import ViscousConfig
 from porenet.config.base import SMALLEST
 from porenet.config.loading import load_scene
 from porenet.core.errors import ConfigError
+from porenet.kinds.viscous.model import ViscousConfig
 
 GAMMA_OVER_A = 0.07 / 1e-7  # capillary pressure scale gamma / a (Pa) of the scenes below
 

@@ -10,7 +10,7 @@ import pytest
 
 import porenet
 from porenet.analysis.fractal import FractalFit
-from porenet.cli import main
+from porenet.cli.main import main
 from porenet.io.runfile import read_run
 from porenet.viz import PLOT_KINDS, make_figure, plot_fractal_fit, plot_pattern, save_figure
 from porenet.viz.figures import missing
@@ -237,7 +237,7 @@ def test_importing_viz_loads_no_matplotlib():
     import subprocess
     import sys
 
-    code = "import sys, porenet.viz, porenet.cli; print('matplotlib' in sys.modules)"
+    code = "import sys, porenet.viz, porenet.cli.main; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import porenet
-from porenet.cli import main
+from porenet.cli.main import main
 from porenet.io.runfile import read_run, write_run
 from porenet.io.xdmf import export_xdmf, sidecar_path
 
@@ -321,7 +321,8 @@ def test_the_command_stays_light(ip_file: Path, tmp_path: Path) -> None:
 
     run = _copy(ip_file, tmp_path)
     code = (
-        "import json, sys; from porenet.cli import main; status = main(['export', sys.argv[1]]); "
+        "import json, sys; from porenet.cli.main import main; "
+        "status = main(['export', sys.argv[1]]); "
         "print(json.dumps([status, sorted(m for m in ('numba', 'scipy', 'matplotlib') "
         "if m in sys.modules)]))"
     )

@@ -1,9 +1,9 @@
 """Where the Simulation's calls into the fluid model end, and how many threads each call uses,
 changes no result, to the bit.
 
-The viscous model's calls aim at a wall time (:class:`porenet.threads.CallPace`), so where a
+The viscous model's calls aim at a wall time (:class:`porenet.jit.threads.CallPace`), so where a
 call ends depends on the machine's speed; the threads are chosen per call by measuring
-(:class:`porenet.threads.ThreadGovernor`). Both are only admissible if a run's drainage
+(:class:`porenet.jit.threads.ThreadGovernor`). Both are only admissible if a run's drainage
 order, times, pressures and volumes do not depend on them. Each integrator is run with the
 calls cut after random numbers of steps (1 to 40) and compared with a run cut nowhere.
 """
@@ -13,10 +13,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.builtin.fluids.local_steps import LocalSteps
-from porenet.kernels.jit import set_threads
+from porenet.jit.jit import set_threads
+from porenet.jit.threads import CallPace, ThreadGovernor, configure_threads, thread_setting
+from porenet.kinds.viscous.local_steps import LocalSteps
 from porenet.simulation import Simulation
-from porenet.threads import CallPace, ThreadGovernor, configure_threads, thread_setting
 
 
 def scene(n=36, integrator="rkc", seed=4, **fluid):

@@ -2,7 +2,7 @@
 
 In a fresh numba cache (a new machine), ``porenet compile`` runs its tiny warm-up scenes;
 then runs of other sizes, integrators, controls, solids and stops must not compile anything
-(numba's compile events, counted by :class:`porenet.compilation.CompileWatch`). Costs the
+(numba's compile events, counted by :class:`porenet.jit.compilation.CompileWatch`). Costs the
 compilation of everything once (~50 s on 2 cores with ``--jobs 2``).
 """
 
@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 CHECK = r"""
 import json, sys
-from porenet.compilation import watch
+from porenet.jit.compilation import watch
 from porenet.simulation import Simulation
 w = watch()
 fig1b, fig5, ip, cubic, mindlin = sys.argv[1:6]

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 import porenet
-from porenet.builtin.solids.config import HertzMindlinConfig
 from porenet.core.errors import ConfigError, NumericalError
 from porenet.core.plan import make_plan
 from porenet.hooks import get_registry
 from porenet.io.runfile import read_run
+from porenet.kinds.mindlin.config import HertzMindlinConfig
 
 GAMMA, A, LAM = 0.07, 1e-7, 0.1
 VISCOUS = {"kind": "viscous", "capillary_number": 1e-2, "integrator": "explicit"}
@@ -314,7 +314,7 @@ def test_a_runaway_is_reported_not_returned(monkeypatch):
     into the kernel that applies an update), the run stops with a NumericalError naming the
     update, the drained pores and the load against the prestress, never a run file of
     garbage that only looks suspect."""
-    from porenet.kernels.mechanics import frictional as fr
+    from porenet.kinds.mindlin.kernels import frictional as fr
 
     apply = fr.apply_increments
     calls = []

@@ -1,5 +1,5 @@
 """The viscous model runs the variants of its kernels that its run can use
-(porenet.kernels.jit.variant, ViscousDrainage.sized): without threads on a lattice too small
+(porenet.jit.jit.variant, ViscousDrainage.sized): without threads on a lattice too small
 for them, without the list sweep on the square grid, without the windows of local time steps
 where it cannot take them. A first run compiles less; the results are those of the full
 kernels, to the bit."""
@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.builtin.fluids.viscous import ViscousDrainage
-from porenet.kernels.jit import PARALLEL_MIN, variant
-from porenet.kernels.viscous.explicit import explicit_advance
-from porenet.kernels.viscous.rkc import rkc_advance
+from porenet.jit.jit import PARALLEL_MIN, variant
+from porenet.kinds.viscous.kernels.explicit import explicit_advance
+from porenet.kinds.viscous.kernels.rkc import rkc_advance
+from porenet.kinds.viscous.model import ViscousDrainage
 from porenet.simulation import Simulation
 
 

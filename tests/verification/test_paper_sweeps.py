@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from porenet.cli import main
+from porenet.cli.main import main
 
 SWEEPS = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
 

@@ -3,7 +3,7 @@ to it, a cost that does not grow like 1/Ca, and the ``auto`` choice of integrato
 summary.
 
 Backward Euler over all undrained pores with sliding menisci and located events
-(:mod:`porenet.builtin.fluids.implicit_steps`). The checks every integrator shares
+(:mod:`porenet.kinds.viscous.implicit_steps`). The checks every integrator shares
 (conservation, exact landings, agreement with a tight explicit run, the invasion-percolation
 limit, hard corners, trapped clusters under pressure control, determinism) are in
 ``test_viscous_integrators.py``, for this integrator with the ids ``[implicit-...]``; it builds

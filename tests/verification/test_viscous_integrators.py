@@ -33,9 +33,9 @@ from typing import Any
 import numpy as np
 import pytest
 
-from porenet.builtin.fluids.local_steps import LocalSteps
 from porenet.core.interfaces import Observer
 from porenet.core.triggers import Trigger
+from porenet.kinds.viscous.local_steps import LocalSteps
 from porenet.simulation import Simulation
 from porenet.testing.runs import (
     assert_tiny_lattice_outcome,

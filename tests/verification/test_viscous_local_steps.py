@@ -1,5 +1,5 @@
 """Local time steps of the RKC integrator (``local_steps``): fine steps in a window around the
-moving menisci, one long coarse step elsewhere (:mod:`porenet.kernels.viscous.multirate`).
+moving menisci, one long coarse step elsewhere (:mod:`porenet.kinds.viscous.kernels.multirate`).
 
 The scheme must keep every property of the single-rate integrator it speeds up. What is
 specific to it is here: the pattern and the times are the single-rate run's, ``auto`` takes
@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.builtin.fluids.local_steps import LocalSteps
+from porenet.kinds.viscous.local_steps import LocalSteps
 from porenet.testing.runs import cached_run, pattern_overlap, simulate
 
 A = 1e-7  # m
@@ -94,7 +94,7 @@ def test_results_do_not_depend_on_the_threads():
     """The large sweeps run on several threads and take their sums per row, then over the
     rows in order: a run on one thread and on two gives the same drainage order, times,
     pressures and volumes, to the bit (64 x 64, so that the boxes are swept in parallel)."""
-    from porenet.threads import configure_threads, thread_setting
+    from porenet.jit.threads import configure_threads, thread_setting
 
     sc = scene(n=64, capillary_number=1e-4, seed=6, max_drained=120)
     before = thread_setting()

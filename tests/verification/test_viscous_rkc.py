@@ -3,7 +3,7 @@ it, a cost that grows far slower than 1/Ca, generic lattices (the list sweep) an
 media.
 
 IMEX Runge-Kutta-Chebyshev steps with the explicit integrator near landings
-(:mod:`porenet.kernels.viscous.rkc`). The checks every integrator shares (conservation, exact
+(:mod:`porenet.kinds.viscous.kernels.rkc`). The checks every integrator shares (conservation, exact
 landings, agreement with a tight explicit run, the invasion-percolation limit, hard corners,
 trapped clusters under pressure control, determinism) are in ``test_viscous_integrators.py``,
 for this integrator with the ids ``[rkc-...]``; it builds its scenes as ``scene`` below does,
@@ -17,8 +17,8 @@ from typing import Literal
 
 import numpy as np
 
-from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
 from porenet.hooks import build_registry, hookimpl
+from porenet.kinds.square.model import SquareLattice, SquareLatticeConfig
 from porenet.simulation import Simulation
 from porenet.testing.runs import cached_run
 

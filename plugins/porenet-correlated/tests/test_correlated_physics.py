@@ -165,7 +165,7 @@ def test_next_fast_len():
 
 
 def test_geometry_is_the_square_lattice():
-    from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
+    from porenet.kinds.square.model import SquareLattice, SquareLatticeConfig
 
     cor = make_lattice(n=9)
     sq = SquareLattice(SquareLatticeConfig(n=9, disorder=0.3), np.random.default_rng(0))

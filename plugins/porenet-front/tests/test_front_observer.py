@@ -67,7 +67,7 @@ def test_plugin_import_does_not_import_the_observer():
     code = (
         "import sys, porenet_front.plugin; "
         "assert 'porenet_front.observer' not in sys.modules; "
-        "assert 'porenet.kernels.invasion.ip' not in sys.modules; "
+        "assert 'porenet.kinds.invasion.kernels.ip' not in sys.modules; "
         "assert 'numba' not in sys.modules"
     )
     src = str(porenet_front.plugin.__file__).rsplit("porenet_front", 1)[0]

@@ -48,7 +48,7 @@ def test_plugin_import_does_not_import_the_model():
     code = (
         "import sys, porenet_gravity.plugin; "
         "assert 'porenet_gravity.model' not in sys.modules; "
-        "assert 'porenet.kernels.invasion.ip' not in sys.modules; "
+        "assert 'porenet.kinds.invasion.kernels.ip' not in sys.modules; "
         "assert 'numba' not in sys.modules"
     )
     src = str(porenet_gravity.plugin.__file__).rsplit("porenet_gravity", 1)[0]

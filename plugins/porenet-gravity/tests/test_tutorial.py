@@ -4,7 +4,7 @@
   ``PATH`` (relative to the repository root); a line ``# (...)`` in a block marks an elision,
   and each piece between elisions must appear on its own.
 * The plugin imports from porenet exactly what its README lists, and nothing private
-  (no name or module component starting with ``_``, nothing from ``porenet.builtin``).
+  (no name or module component starting with ``_``, nothing from ``porenet.kinds``).
 
 The checks are :mod:`porenet.testing.tutorial`'s, shared with the other tutorials' plugins.
 """

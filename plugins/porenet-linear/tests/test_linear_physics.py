@@ -17,7 +17,7 @@ from porenet_linear.config import KIND
 import porenet.hooks
 from porenet.analysis.numbers import modulus_for
 from porenet.core.state import State
-from porenet.kernels.mechanics.springs import aperture_change, hertz_stiffness
+from porenet.kinds.hertz.kernels.springs import aperture_change, hertz_stiffness
 from porenet.simulation import Simulation
 
 NF, DISORDER, PRESTRAIN = 0.5, 0.3, 0.05

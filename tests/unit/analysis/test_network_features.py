@@ -9,7 +9,7 @@ import pytest
 
 from porenet.analysis.features import LONG_RUN, _grid_features, pattern_features
 from porenet.analysis.network_features import network_pattern_features, straight_runs_any
-from porenet.builtin.classifiers.rules import RulesClassifier
+from porenet.kinds.rules.model import RulesClassifier
 from porenet.simulation import Simulation
 
 IP = {"kind": "invasion-percolation"}

@@ -1,5 +1,5 @@
-"""Kernels that only kernels call: the ``_callee`` twins of porenet.kernels.jit, compiled for
-linking only (porenet.kernels.link_only). Each case runs in new processes that share one numba
+"""Kernels that only kernels call: the ``_callee`` twins of porenet.jit.jit, compiled for
+linking only (porenet.jit.link_only). Each case runs in new processes that share one numba
 cache directory, as a first run, a later run and a run with part of the cache left, do."""
 
 from __future__ import annotations
@@ -12,14 +12,14 @@ import sys
 import numpy as np
 import pytest
 
-from porenet.kernels import link_only
+from porenet.jit import link_only
 
 # A small tree: root (allocates, so it uses numba's reference counting) -> rows, a serial and
 # a parallel twin -> row (a helper); root also calls a kernel that raises with a message built
 # at run time, and a reassociated sum.
 KERNELS = """
 import numpy as np
-from porenet.kernels.jit import THREADS, njit, prange, serial_and_parallel
+from porenet.jit.jit import THREADS, njit, prange, serial_and_parallel
 
 
 @njit(helper=True)
@@ -171,7 +171,7 @@ SINGLE = """
 import json
 import numpy as np
 from numba.core import event
-from porenet.kernels.jit import variant
+from porenet.jit.jit import variant
 
 compiled = []
 

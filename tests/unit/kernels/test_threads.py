@@ -8,8 +8,8 @@ import sys
 
 import numpy as np
 
-from porenet.kernels.jit import PARALLEL_MIN, set_threads, threads
-from porenet.kernels.viscous.diffusion import copy_rows
+from porenet.jit.jit import PARALLEL_MIN, set_threads, threads
+from porenet.kinds.viscous.kernels.diffusion import copy_rows
 
 # A kernel cached by a process that loaded its parallel callee from the cache does not start
 # numba's threading layer when a third process loads it (numba issue #8578): its first call
@@ -17,7 +17,7 @@ from porenet.kernels.viscous.diffusion import copy_rows
 OUTER = """
 import numpy as np
 from numba import njit
-from porenet.kernels.viscous.diffusion import copy_rows
+from porenet.kinds.viscous.kernels.diffusion import copy_rows
 
 @njit(cache=True)
 def outer(n, src, dst):
@@ -31,7 +31,7 @@ n = 100
 src = np.arange(n * n, dtype=float)
 dst = np.zeros(n * n)
 if sys.argv[1] == "inner":
-    from porenet.kernels.viscous.diffusion import copy_rows
+    from porenet.kinds.viscous.kernels.diffusion import copy_rows
     copy_rows(n, np.array([0, n, 0, n], dtype=np.int64), src, dst)
 else:
     from outer_kernel import outer

@@ -7,7 +7,7 @@ from typing import Literal
 
 from pydantic import Field, field_validator
 
-from porenet.builtin.lattices.config import SquareLatticeConfig
+from porenet.kinds.square.config import SquareLatticeConfig
 
 KIND = "correlated.gaussian"
 

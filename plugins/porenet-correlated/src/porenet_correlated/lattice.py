@@ -2,7 +2,7 @@
 
 Only the drawing of the apertures changes (:meth:`CorrelatedLattice.draw_apertures`); geometry,
 topology, canonical throat order and the solid network are those of
-:class:`porenet.builtin.lattices.square.SquareLattice`.
+:class:`porenet.kinds.square.model.SquareLattice`.
 
 Algorithm (:func:`correlated_apertures`)
 ----------------------------------------
@@ -55,7 +55,7 @@ import math
 
 import numpy as np
 
-from porenet.builtin.lattices.square import SquareLattice
+from porenet.kinds.square.model import SquareLattice
 
 #: Padding of the periodic grid beyond the lattice block, in kernel standard deviations.
 PAD_SIGMAS = 8.0
@@ -202,7 +202,7 @@ def sample_at_throats(field: np.ndarray, n: int) -> np.ndarray:
         ``(2 n (n-1),)`` values: the horizontal throats ``(i, j)-(i, j+1)`` (node
         ``[2i, 2j + 1]``) row-major, then the vertical throats ``(i, j)-(i+1, j)`` (node
         ``[2i + 1, 2j]``) row-major, as in
-        :func:`porenet.builtin.lattices.square.canonical_throats`.
+        :func:`porenet.kinds.square.model.canonical_throats`.
     """
     if field.shape != (2 * n - 1, 2 * n - 1):
         raise ValueError(f"sample_at_throats: field of shape {field.shape} for n = {n}")
@@ -276,7 +276,7 @@ class CorrelatedLattice(SquareLattice):
     """Square lattice whose apertures are arranged by a Gaussian random field.
 
     Only :meth:`draw_apertures` differs from
-    :class:`~porenet.builtin.lattices.square.SquareLattice`: geometry, canonical throat order,
+    :class:`~porenet.kinds.square.model.SquareLattice`: geometry, canonical throat order,
     particles and springs are the same. See the module docstring for the algorithm.
 
     Parameters

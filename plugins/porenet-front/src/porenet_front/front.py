@@ -33,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 
 from porenet.core.interfaces import Lattice
-from porenet.kernels.invasion import enclosed_defender
+from porenet.kinds.invasion.kernels import enclosed_defender
 
 __all__ = ["FrontGeometry", "FrontMeasures", "front_geometry", "injection_distance", "measure"]
 
@@ -116,7 +116,7 @@ class FrontMeasures(NamedTuple):
 
 def measure(geometry: FrontGeometry, drained: np.ndarray) -> FrontMeasures:
     """The front of the pattern ``drained`` ((N,) bool), in O(N + M): one flood fill of the
-    defender from the outlet (:func:`porenet.kernels.invasion.enclosed_defender`)."""
+    defender from the outlet (:func:`porenet.kinds.invasion.kernels.enclosed_defender`)."""
     drained = np.ascontiguousarray(drained, dtype=np.bool_)
     a, b = geometry.throat_pores[:, 0], geometry.throat_pores[:, 1]
     meniscus = drained[a] != drained[b]

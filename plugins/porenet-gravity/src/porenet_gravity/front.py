@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from porenet.core.interfaces import Lattice
-from porenet.kernels.invasion import enclosed_defender
+from porenet.kinds.invasion.kernels import enclosed_defender
 
 __all__ = [
     "INJECTION",
@@ -117,7 +117,7 @@ def front_pores(
     -------
     numpy.ndarray of bool, shape (N,)
         True on the front (see the module docstring). O(N + M): one flood fill of the
-        defender from the outlet (:func:`porenet.kernels.invasion.enclosed_defender`).
+        defender from the outlet (:func:`porenet.kinds.invasion.kernels.enclosed_defender`).
     """
     tp = np.asarray(throat_pores, dtype=np.int64)
     return _front(adjacency[0], adjacency[1], tp[:, 0], tp[:, 1], drained, outlet)

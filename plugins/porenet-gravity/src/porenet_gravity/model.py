@@ -29,7 +29,7 @@ invader from below) changes the sign of the hydrostatic term. ``z_t`` is the hei
 throat's midpoint (the mean of its two pores' x coordinates) above the inlet pores' x.
 
 The invasion is computed once, at :meth:`GravityInvasionPercolation.setup`, by porenet's public
-kernel :func:`porenet.kernels.invasion.invasion_sequence` (with trapping when configured) and
+kernel :func:`porenet.kinds.invasion.kernels.invasion_sequence` (with trapping when configured) and
 replayed by :meth:`~GravityInvasionPercolation.advance` in the chunks the Simulation asks for,
 exactly as porenet's own ``invasion-percolation`` does; with ``Bo = 0`` the two are the same
 model and give the same drainage order.
@@ -58,7 +58,7 @@ import numpy as np
 from porenet.core.errors import ConfigError
 from porenet.core.interfaces import FluidModel, Lattice, RunContext
 from porenet.core.state import State
-from porenet.kernels.invasion import enclosed_defender, entry_pressures, invasion_sequence
+from porenet.kinds.invasion.kernels import enclosed_defender, entry_pressures, invasion_sequence
 from porenet_gravity.config import KIND, GravityInvasionConfig
 from porenet_gravity.front import INJECTION, front_statistics, throat_heights
 
@@ -87,7 +87,7 @@ def invasion_thresholds(
     numpy.ndarray, shape (M,)
         Capillary entry pressure plus hydrostatic term (scaled by ``gamma / a``). For
         ``bond_number == 0`` it is exactly porenet's
-        :func:`porenet.kernels.invasion.entry_pressures`, so the invasion is porenet's own.
+        :func:`porenet.kinds.invasion.kernels.entry_pressures`, so the invasion is porenet's own.
 
     References
     ----------

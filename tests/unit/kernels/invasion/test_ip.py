@@ -7,11 +7,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from porenet.builtin.lattices.square import canonical_throats
-from porenet.kernels.invasion import ip
-from porenet.kernels.invasion import trapping as trap
-from porenet.kernels.invasion.bitqueue import queue_insert, queue_min, queue_new, queue_remove
-from porenet.kernels.shared.graph import csr_adjacency
+from porenet.kernels.graph import csr_adjacency
+from porenet.kinds.invasion.kernels import ip
+from porenet.kinds.invasion.kernels import trapping as trap
+from porenet.kinds.invasion.kernels.bitqueue import queue_insert, queue_min, queue_new, queue_remove
+from porenet.kinds.square.model import canonical_throats
 from porenet.testing.reference import reference_invasion
 
 
@@ -147,14 +147,14 @@ def test_throat_ranks_break_ties_by_index():
     )
 )
 def test_stable_argsort_equals_numpy_stable(values):
-    from porenet.kernels.shared.sorting import stable_argsort
+    from porenet.kernels.sorting import stable_argsort
 
     v = np.asarray(values)
     np.testing.assert_array_equal(stable_argsort(v), np.argsort(v, kind="stable"))
 
 
 def test_stable_argsort_falls_back_on_uneven_distributions():
-    from porenet.kernels.shared.sorting import MAX_BUCKET, stable_argsort
+    from porenet.kernels.sorting import MAX_BUCKET, stable_argsort
 
     v = np.concatenate([np.linspace(1.0, 1.0 + 1e-9, 10 * MAX_BUCKET), [1e6]])  # one big bucket
     v = np.random.default_rng(0).permutation(v)
@@ -173,7 +173,7 @@ def test_stable_argsort_falls_back_on_uneven_distributions():
     )
 )
 def test_rank_order_equals_numpy_stable(values):
-    from porenet.kernels.shared.sorting import rank_order
+    from porenet.kernels.sorting import rank_order
 
     v = np.asarray(values, dtype=np.float64)
     by_rank = np.empty(len(v), dtype=np.int32)
@@ -184,7 +184,7 @@ def test_rank_order_equals_numpy_stable(values):
 
 
 def test_rank_order_gives_up_on_values_clustered_below_its_resolution():
-    from porenet.kernels.shared.sorting import rank_order
+    from porenet.kernels.sorting import rank_order
 
     # 20,000 values 1 ulp apart in descending order, in one bucket of both levels (the values
     # 1 + 2**-5 and 2 stretch the ranges): the insertion pass would be quadratic.
@@ -200,7 +200,7 @@ def test_rank_order_gives_up_on_values_clustered_below_its_resolution():
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.booleans(), st.integers(0, 5000)), min_size=1, max_size=400))
 def test_queue_pop_min_is_remove_then_min(ops):
-    from porenet.kernels.invasion.bitqueue import queue_pop_min
+    from porenet.kinds.invasion.kernels.bitqueue import queue_pop_min
 
     words, offsets = queue_new(5001)
     for insert, key in ops:
@@ -233,7 +233,7 @@ def irregular_graph(n: int, rng: np.random.Generator):
 @pytest.mark.parametrize("trapping", [False, True])
 @pytest.mark.parametrize("stop", [False, True])
 def test_irregular_graph_matches_reference(trapping, stop):
-    from porenet.kernels.shared.graph import max_degree
+    from porenet.kernels.graph import max_degree
 
     for seed in range(3):
         rng = np.random.default_rng(seed)

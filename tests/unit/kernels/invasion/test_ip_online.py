@@ -7,11 +7,11 @@ from collections import deque
 import numpy as np
 import pytest
 
-from porenet.builtin.lattices.square import canonical_throats
-from porenet.kernels.invasion import ip
-from porenet.kernels.invasion import online as io
-from porenet.kernels.invasion import trapping as trap
-from porenet.kernels.shared.graph import csr_adjacency, max_degree
+from porenet.kernels.graph import csr_adjacency, max_degree
+from porenet.kinds.invasion.kernels import ip
+from porenet.kinds.invasion.kernels import online as io
+from porenet.kinds.invasion.kernels import trapping as trap
+from porenet.kinds.square.model import canonical_throats
 
 
 def square(n: int, rng: np.random.Generator, ties: bool = False):

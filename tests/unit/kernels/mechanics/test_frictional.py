@@ -7,12 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
-from porenet.builtin.solids.grid_solver import GridSolver
-from porenet.kernels.mechanics import frictional as fr
-from porenet.kernels.mechanics import frictional_sparse as fs
-from porenet.kernels.mechanics import springs as mk
-from porenet.kernels.mechanics.grid import find_grid
+from porenet.kinds.hertz.kernels import springs as mk
+from porenet.kinds.mindlin.grid_solver import GridSolver
+from porenet.kinds.mindlin.kernels import frictional as fr
+from porenet.kinds.mindlin.kernels import frictional_sparse as fs
+from porenet.kinds.mindlin.kernels.grid import find_grid
+from porenet.kinds.square.model import SquareLattice, SquareLatticeConfig
 
 MODULUS = 4.47  # E* a / gamma at N_f = 10, lambda = 0.1, eps_0 = 0.05
 H0 = 0.1

@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.sparse.linalg import spsolve
 
-from porenet.kernels.mechanics import multigrid as mg
-from porenet.kernels.mechanics import multigrid_drift as drift
+from porenet.kinds.mindlin.kernels import multigrid as mg
+from porenet.kinds.mindlin.kernels import multigrid_drift as drift
 
 
 def random_operator(m: int, ratio: float, crack: int, seed: int, foundation: float = 0.0):
@@ -152,7 +152,7 @@ def test_the_v_cycle_is_a_symmetric_positive_preconditioner(flip, crack):
 def test_the_residual_after_smoothing_from_zero_is_b_minus_a_x(flip):
     """What :func:`row_residual` and :func:`column_residual` give after a forward sweep from
     zero is the plain residual ``b - A x`` of the finest level, from the sparse matrix."""
-    from porenet.kernels.mechanics import multigrid_smoothing as sm
+    from porenet.kinds.mindlin.kernels import multigrid_smoothing as sm
 
     m = 23
     op = random_operator(m, 0.5, 5, seed=11)
@@ -256,7 +256,7 @@ def test_a_hierarchy_of_the_stuck_operator_solves_the_sliding_one_exactly(slidin
 def test_cholesky_of_the_coarsest_level_equals_lapacks(size, seed, shift):
     # the written-out factor (no LAPACK threads, docs/performance.md) against numpy's, on
     # symmetric positive definite matrices from well to poorly conditioned
-    from porenet.kernels.mechanics.multigrid_levels import cholesky_lower
+    from porenet.kinds.mindlin.kernels.multigrid_levels import cholesky_lower
 
     rng = np.random.default_rng(seed)
     a = rng.standard_normal((size, size))
@@ -269,7 +269,7 @@ def test_cholesky_of_the_coarsest_level_equals_lapacks(size, seed, shift):
 
 
 def test_cholesky_reports_a_matrix_that_is_not_positive_definite():
-    from porenet.kernels.mechanics.multigrid_levels import cholesky_lower
+    from porenet.kinds.mindlin.kernels.multigrid_levels import cholesky_lower
 
     for diagonal in ([1.0, 2.0, -1.0], [1.0, 0.0, 3.0], [np.nan, 1.0, 1.0]):
         assert not cholesky_lower(np.diag(diagonal))[1]

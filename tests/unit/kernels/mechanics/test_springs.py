@@ -9,9 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from porenet.builtin.lattices.square import SquareLattice, SquareLatticeConfig
-from porenet.kernels.mechanics import chains as ck
-from porenet.kernels.mechanics import springs as mk
+from porenet.kinds.hertz.kernels import chains as ck
+from porenet.kinds.hertz.kernels import springs as mk
+from porenet.kinds.square.model import SquareLattice, SquareLatticeConfig
 
 MODULUS = 4.47  # E* a / gamma at N_f = 10, lambda = 0.1, eps_0 = 0.05
 H0 = 0.1

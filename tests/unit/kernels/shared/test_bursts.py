@@ -1,4 +1,4 @@
-"""Burst statistics (porenet.kernels.shared.bursts) against a slow, literal reference: a burst
+"""Burst statistics (porenet.kernels.bursts) against a slow, literal reference: a burst
 opens at every step whose pressure exceeds all earlier ones and runs until the next such step
 (docs/model.md section 3)."""
 
@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from porenet.kernels.shared.bursts import burst_sizes
+from porenet.kernels.bursts import burst_sizes
 
 
 def reference(pressure: list[float]) -> tuple[list[int], list[int]]:

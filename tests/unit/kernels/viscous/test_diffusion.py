@@ -1,4 +1,4 @@
-"""The pressure diffusion over the active pores (:mod:`porenet.kernels.viscous.diffusion`)
+"""The pressure diffusion over the active pores (:mod:`porenet.kinds.viscous.kernels.diffusion`)
 against slow, obvious references: a forward Euler step written pore by pore over a dense
 neighbour list, the throat refresh written from its formulas."""
 
@@ -7,9 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.builtin.lattices.config import SquareLatticeConfig
-from porenet.builtin.lattices.square import SquareLattice
-from porenet.kernels.viscous.diffusion import (
+from porenet.kinds.square.config import SquareLatticeConfig
+from porenet.kinds.square.model import SquareLattice
+from porenet.kinds.viscous.kernels.diffusion import (
     DENSE_ACTIVE,
     csr_copy,
     csr_fluxes,
@@ -20,7 +20,7 @@ from porenet.kernels.viscous.diffusion import (
     refresh_throats,
     spread,
 )
-from porenet.kernels.viscous.state import Conductances, Count, Network, Sweep
+from porenet.kinds.viscous.kernels.state import Conductances, Count, Network, Sweep
 
 
 def grid(n: int, seed: int):

@@ -1,4 +1,4 @@
-"""Drainage events of the viscous model (:func:`porenet.kernels.viscous.explicit.drain_pore`)
+"""Drainage events of the viscous model (:func:`porenet.kinds.viscous.kernels.explicit.drain_pore`)
 against their definitions: after any sequence of events the frontier is exactly the throats
 between a drained and an undrained pore, the active pores are the undrained neighbours of
 drained ones, the box holds them, and the totals and records book each event."""
@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.builtin.lattices.config import SquareLatticeConfig
-from porenet.builtin.lattices.square import SquareLattice
-from porenet.kernels.viscous.explicit import drain_pore
-from porenet.kernels.viscous.state import (
+from porenet.kinds.square.config import SquareLatticeConfig
+from porenet.kinds.square.model import SquareLattice
+from porenet.kinds.viscous.kernels.explicit import drain_pore
+from porenet.kinds.viscous.kernels.state import (
     Column,
     Conductances,
     Count,

@@ -10,15 +10,15 @@ import pytest
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
-from porenet.builtin.lattices.config import SquareLatticeConfig
-from porenet.builtin.lattices.square import SquareLattice
-from porenet.kernels.viscous.grid_cholesky import (
+from porenet.kinds.square.config import SquareLatticeConfig
+from porenet.kinds.square.model import SquareLattice
+from porenet.kinds.viscous.kernels.grid_cholesky import (
     grid_cholesky_factor,
     grid_cholesky_solve,
     grid_cholesky_symbolic,
     grid_fronts,
 )
-from porenet.kernels.viscous.pore_matrix import fill_diagonal
+from porenet.kinds.viscous.kernels.pore_matrix import fill_diagonal
 
 
 def pore_matrix(n: int, rng: np.random.Generator, drained_share: float):

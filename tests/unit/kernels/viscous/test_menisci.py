@@ -1,4 +1,4 @@
-"""The menisci and the pump over one step (:mod:`porenet.kernels.viscous.menisci`) against
+"""The menisci and the pump over one step (:mod:`porenet.kinds.viscous.kernels.menisci`) against
 slow, obvious references: the end-of-step pressure difference of a pore found by bisection on
 its (monotone) balance, the invading pressure by bisection on the reservoir's balance, the
 landing step by bisection on the shortest remaining length."""
@@ -8,13 +8,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.kernels.viscous.menisci import (
+from porenet.kinds.viscous.kernels.menisci import (
     invader_pressure,
     landing_step,
     meniscus_fluxes,
     pore_response,
 )
-from porenet.kernels.viscous.state import Control, Menisci, Pump
+from porenet.kinds.viscous.kernels.state import Control, Menisci, Pump
 
 
 def one_pore(thresholds, conductances, rng):

@@ -1,6 +1,6 @@
-"""Kernels of local time stepping (:mod:`porenet.kernels.viscous.multirate`,
-:mod:`porenet.kernels.viscous.window`): the ring of a window, the coarse step's shadow sums (exact
-volume bookkeeping across the window's edge) and the far-field update (volume conserved to
+"""Kernels of local time stepping (:mod:`porenet.kinds.viscous.kernels.multirate`,
+:mod:`porenet.kinds.viscous.kernels.window`): the ring of a window, the coarse step's shadow sums
+(exact volume bookkeeping across the window's edge) and the far-field update (volume conserved to
 round-off)."""
 
 from __future__ import annotations
@@ -8,11 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.builtin.fluids.local_steps import LocalSteps
-from porenet.kernels.viscous import multirate as mk
-from porenet.kernels.viscous.chebyshev import stage_count
-from porenet.kernels.viscous.state import Total
-from porenet.kernels.viscous.window import Ring, WindowInt
+from porenet.kinds.viscous.kernels import multirate as mk
+from porenet.kinds.viscous.kernels.chebyshev import stage_count
+from porenet.kinds.viscous.kernels.state import Total
+from porenet.kinds.viscous.kernels.window import Ring, WindowInt
+from porenet.kinds.viscous.local_steps import LocalSteps
 from porenet.simulation import Simulation
 
 N = 30

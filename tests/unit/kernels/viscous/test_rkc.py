@@ -1,5 +1,5 @@
-"""Runge-Kutta-Chebyshev numerics (:mod:`porenet.kernels.viscous.chebyshev`): stability of the IMEX
-scheme for the stage counts used, its order, the two sweeps, the spectral radius."""
+"""Runge-Kutta-Chebyshev numerics (:mod:`porenet.kinds.viscous.kernels.chebyshev`): stability of the
+IMEX scheme for the stage counts used, its order, the two sweeps, the spectral radius."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from porenet.kernels.viscous.chebyshev import (
+from porenet.kinds.viscous.kernels.chebyshev import (
     coefficients,
     csr_stage,
     grid_stage,
@@ -16,12 +16,12 @@ from porenet.kernels.viscous.chebyshev import (
     spectral_radius,
     stage_count,
 )
-from porenet.kernels.viscous.state import Sweep
+from porenet.kinds.viscous.kernels.state import Sweep
 
 
 def amplification(z_e: float, z_i: float, m: int) -> float:
     """One IMEX RKC step of ``y' = (z_e + z_i) y`` with ``h = 1`` (z_e explicit, z_i implicit),
-    written from the stage formulas of :mod:`porenet.kernels.viscous.rkc`."""
+    written from the stage formulas of :mod:`porenet.kinds.viscous.kernels.rkc`."""
     mus1, coef = coefficients(m)
     y0 = 1.0
     fe0, fi0 = z_e * y0, z_i * y0

@@ -1,4 +1,4 @@
-"""The row stencil (porenet.kernels.viscous.stencil.interior_run) against the canonical grid
+"""The row stencil (porenet.kinds.viscous.kernels.stencil.interior_run) against the canonical grid
 numbering written out pore by pore: pore (i, j) is i n + j, horizontal throat (i, j)-(i, j+1)
 is i (n-1) + j, vertical throat (i, j)-(i+1, j) is n (n-1) + i n + j."""
 
@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.kernels.jit import njit
-from porenet.kernels.viscous.stencil import interior_run
+from porenet.jit.jit import njit
+from porenet.kinds.viscous.kernels.stencil import interior_run
 
 FIELDS = ("centre", "west", "east", "up", "down", "g_west", "g_east", "g_up", "g_down", "g_out")
 

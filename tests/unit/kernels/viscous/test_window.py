@@ -1,4 +1,4 @@
-"""The helpers of a window of local time steps (porenet.kernels.viscous.window), each against
+"""The helpers of a window of local time steps (porenet.kinds.viscous.kernels.window), each against
 its definition written out by hand: box membership, pressures interpolated from the start of
 the macro step, the volume booked on ring throats, the RKC shadow recursion, the open-edge
 margin and the watch on menisci outside the window."""
@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from porenet.kernels.viscous.state import Status
-from porenet.kernels.viscous.window import (
+from porenet.kinds.viscous.kernels.state import Status
+from porenet.kinds.viscous.kernels.window import (
     Cut,
     Mode,
     Ring,

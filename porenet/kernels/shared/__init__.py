@@ -1,2 +1,0 @@
-"""Kernels every model uses: the pore graph, stable ranking, burst statistics, dense Cholesky
-columns."""

@@ -1,0 +1,1 @@
+"""The prestressed Hertzian solid (kind ``hertz``). See README.md beside this file."""

@@ -1,0 +1,12 @@
+"""Registers this kind through the hook any plugin implements (docs/architecture.md, rule 1):
+the config is imported here, the implementation only when a scene builds it."""
+
+from __future__ import annotations
+
+from porenet.hooks import Register, hookimpl
+from porenet.kinds.hertz.config import HertzConfig
+
+
+@hookimpl
+def porenet_register_solid_models(register: Register) -> None:
+    register(HertzConfig, "porenet.kinds.hertz.model:HertzSolid")

@@ -1,0 +1,2 @@
+"""Quasi-static invasion percolation (kind ``invasion-percolation``). See README.md beside this
+file."""

@@ -1,0 +1,12 @@
+"""Registers this kind through the hook any plugin implements (docs/architecture.md, rule 1):
+the config is imported here, the implementation only when a scene builds it."""
+
+from __future__ import annotations
+
+from porenet.hooks import Register, hookimpl
+from porenet.kinds.invasion.config import InvasionPercolationConfig
+
+
+@hookimpl
+def porenet_register_fluid_models(register: Register) -> None:
+    register(InvasionPercolationConfig, "porenet.kinds.invasion.model:InvasionPercolation")

@@ -1,0 +1,1 @@
+"""The frictional solid (kind ``hertz-mindlin``). See README.md beside this file."""

@@ -1,0 +1,1 @@
+"""Imported pore networks (kind ``network``). See README.md beside this file."""

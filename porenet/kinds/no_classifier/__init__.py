@@ -1,0 +1,1 @@
+"""No pattern analysis (classifier kind ``none``). See README.md beside this file."""

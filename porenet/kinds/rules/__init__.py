@@ -1,0 +1,1 @@
+"""The rule-based pattern classifier (kind ``rules``). See README.md beside this file."""

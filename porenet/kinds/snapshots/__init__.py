@@ -1,0 +1,1 @@
+"""Snapshots of the fields (observer kind ``snapshots``). See README.md beside this file."""
