@@ -15,9 +15,11 @@ Python calls (with numba's CPython wrapper, which converts Python objects to mac
 and a twin that other kernels call, without it and compiled for linking only
 (:mod:`porenet.jit.link_only`): a kernel tree is optimised and compiled to machine code
 once, at the kernel Python calls (docs/architecture.md). No kernel has numba's C-callable
-wrapper (porenet passes no kernel as a first-class function). :func:`variant` compiles a
-kernel with capability switches off (:data:`THREADS`, and the viscous model's ``LISTS`` and
-``WINDOWS``), for a run that cannot use the code they guard.
+wrapper (porenet passes no kernel as a first-class function). With link-only compilation
+switched off (``PORENET_LINK_ONLY=0``) or unavailable (a numba without the internals it
+needs), a kernel is a plain ``numba.njit(**options)`` dispatcher: no twin, nothing rebound.
+:func:`variant` compiles a kernel with capability switches off (:data:`THREADS`, and the
+viscous model's ``LISTS`` and ``WINDOWS``), for a run that cannot use the code they guard.
 
 Threads: :func:`pjit` compiles a kernel whose ``prange`` loops run on several threads,
 :func:`serial_and_parallel` one loop both ways (callers pick by ``THREADS and``
@@ -90,8 +92,10 @@ _CALLEE_ONLY = {"no_cpython_wrapper": True}
 
 def _kernel(func: Callable[..., Any], options: dict[str, Any]) -> Any:
     """``numba.njit(**options)(func)``, whose calls from other kernels go to a twin compiled
-    without numba's wrappers (see the module's docstring) and for plain argument types
-    (:func:`_without_literal_variants`). Python calls the returned dispatcher as usual.
+    without numba's wrappers, for linking only (see the module's docstring) and for plain
+    argument types (:func:`_without_literal_variants`). Python calls the returned dispatcher
+    as usual. Without :data:`porenet.jit.link_only.PIPELINE` (switched off or unavailable) the
+    plain dispatcher, untouched.
 
     How: numba types a call from a kernel by asking the callee's dispatcher for a call
     template (``get_call_template``, which compiles it for the argument types) and lowers it
@@ -100,15 +104,32 @@ def _kernel(func: Callable[..., Any], options: dict[str, Any]) -> Any:
     function's name, not by the options) never serves a Python call, which would need the
     wrapper (calling a function compiled without it from Python crashes the process)."""
     python_side = numba.njit(**options)(func)
-    callee_options = dict(options, **_CALLEE_ONLY)
-    if link_only.PIPELINE is not None:
-        callee_options["pipeline_class"] = link_only.PIPELINE
-    callee = numba.njit(**callee_options)(_twin(func, "_callee"))
-    specialise = _without_literal_variants(callee.get_call_template)
-    python_side.get_call_template = specialise
-    python_side.get_overload = callee.get_overload
     _OPTIONS[id(python_side)] = (python_side, options)
+    if link_only.PIPELINE is None:
+        return python_side
+    callee_options = dict(options, **_CALLEE_ONLY, pipeline_class=link_only.PIPELINE)
+    callee = numba.njit(**callee_options)(_twin(func, "_callee"))
+    python_side.get_call_template = _without_literal_variants(
+        _compiled_again_on_failure(callee.get_call_template)
+    )
+    python_side.get_overload = callee.get_overload
     return python_side
+
+
+def _compiled_again_on_failure(get_call_template: Callable[[Any, Any], Any]) -> Any:
+    """A twin's ``get_call_template`` (the only call that compiles a twin) that compiles it
+    again when link-only compilation failed on a numba internal
+    (:class:`porenet.jit.link_only.LinkOnlyFailure`): link-only compilation is then off in
+    this process, so the second compilation is numba's default one, and the failed one left
+    nothing numba uses (:mod:`porenet.jit.link_only` says why)."""
+
+    def compiled(args: Any, kws: Any) -> Any:
+        try:
+            return get_call_template(args, kws)
+        except link_only.LinkOnlyFailure:
+            return get_call_template(args, kws)
+
+    return compiled
 
 
 #: id of each kernel's dispatcher -> (the dispatcher, its numba options), for :func:`variant`

@@ -21,12 +21,46 @@ added) that gives a kernel this library; :mod:`porenet.jit.jit` passes it as
 
 What this relies on in numba beyond its public API (``pipeline_class``, compiler passes):
 ``JITCodeLibrary`` and its attributes ``_linking_libraries``, ``_final_module``,
-``_reload_init``, ``_finalize_dynamic_globals``, ``_verify_declare_only_symbols``, ``_codegen``
-(``_add_module``, ``_engine``, ``_create_empty_module``) and the way ``CPUCodeLibrary`` marks a
-module with its library for the object-cache hooks. :func:`available` checks them when the
-module is imported; if numba lacks any, :data:`PIPELINE` is None and every kernel is compiled
-as numba does by default (slower to compile, the same machine code).
-``PORENET_LINK_ONLY=0`` in the environment also switches it off, for comparing the two.
+``_reload_init``, ``_get_module_for_linking``, ``_raise_if_finalized``,
+``_finalize_dynamic_globals``, ``_verify_declare_only_symbols``, ``enable_object_caching``,
+``_get_compiled_object``, ``_codegen`` (``_add_module``, ``_engine.finalize_object``,
+``_create_empty_module``), the mark ``CPUCodeLibrary`` puts on a module for its object-cache
+hooks (:data:`_MARK`), the pass state's ``library``, ``targetctx`` and ``func_id``, and the
+dispatcher's ``get_call_template`` and ``get_overload`` (rebound by :mod:`porenet.jit.jit`).
+Tested with numba up to the bound in pyproject.toml.
+
+When it is not used (all three cases are safe; none changes what a kernel computes):
+
+* **Switched off**, ``PORENET_LINK_ONLY=0`` in the environment: :data:`PIPELINE` is None and
+  nothing is patched: :mod:`porenet.jit.jit` makes every kernel a plain ``numba.njit``
+  dispatcher (no twin, no rebound method), exactly numba's default compilation.
+* **Unavailable**, numba lacks one of the class-level internals :func:`_build` checks on
+  import (a method, the mark read by the object-cache hook, the dispatcher's methods): the same
+  as switched off, with the notice below.
+* **Failed at compile time**: anything else that differs (an instance attribute renamed, a
+  method whose signature changed, the mark no longer read) raises inside the pass or
+  :meth:`LinkOnlyLibrary.finalize`. That exception switches link-only off for the rest of the
+  process (:func:`active` is then False, and the pass leaves every later library to numba),
+  logs the notice and is raised as :class:`LinkOnlyFailure`; the twin's ``get_call_template``
+  in :mod:`porenet.jit.jit`, the only place that compiles a twin, catches it and compiles the
+  twin again, now as numba does by default (still without CPython wrapper).
+
+The notice is one ``logging`` warning per process, naming what failed and saying that kernels
+compile as numba does by default (slower to compile, the same machine code up to the order in
+which LLVM sees it).
+
+Why a failed compilation is redone rather than finished: calling the base ``finalize`` on the
+half-finalized library is safe only if the failure came before any change to it, and a method
+whose signature changed fails after the callees were linked in or after the environment
+entered the execution engine. Compiling again is safe wherever the failure came: the exception
+leaves numba's ``Dispatcher.compile`` before the result is registered (``add_overload``,
+``insert_user_function``) or cached (``save_overload``); :class:`LinkOnlyFailure` is not a
+``TypingError``, so numba does not remember the failure; the new compilation starts from the
+bytecode and names its symbols with a new unique id, so whatever the failed library left in the
+engine is never referenced. Libraries finalized link-only before the failure are complete and
+are linked by their callers like any library. A twin compiled after the failure is cached on
+disk like any numba function; cache entries of either kind load in either mode. The cost is
+one wasted compilation, once per process (``tests/unit/kernels/test_link_only_fallback.py``).
 """
 
 from __future__ import annotations
@@ -42,23 +76,80 @@ log = logging.getLogger(__name__)
 #: (``numba.core.base.BaseContext.get_env_name``).
 _ENV_PREFIX = "_ZN08NumbaEnv"
 
+#: The attribute ``CPUCodeLibrary`` sets on an LLVM module to tell its object-cache hooks
+#: which library the module's object code belongs to (``self._final_module.__library`` inside
+#: that class, so name-mangled).
+_MARK = "_CPUCodeLibrary__library"
 
-def _build() -> Any:
-    """The pipeline class, or None when numba's internals differ from what it needs."""
+
+class LinkOnlyFailure(Exception):
+    """Link-only compilation failed on a numba internal and is now off in this process: the
+    kernel being compiled must be compiled again (numba's default). Not a numba error, so that
+    numba neither wraps nor remembers it."""
+
+
+#: What made link-only compilation fail in this process (None while it has not).
+_failed: str | None = None
+_noticed = False
+
+
+def _notice(what: str) -> None:
+    """The one-line notice, once per process."""
+    global _noticed
+    if _noticed:
+        return
+    _noticed = True
+    try:
+        import numba
+
+        version = numba.__version__
+    except Exception:  # pragma: no cover
+        version = "?"
+    log.warning(
+        "porenet: kernels compile as numba does by default (link-only compilation off with "
+        "numba %s: %s)",
+        version,
+        what,
+    )
+
+
+def _fail(where: str, exc: BaseException) -> LinkOnlyFailure:
+    """Switch link-only compilation off for the rest of the process; the exception to raise."""
+    global _failed
+    if _failed is None:
+        _failed = f"{where}: {type(exc).__name__}: {exc}"
+        _notice(_failed)
+    return LinkOnlyFailure(_failed)
+
+
+def _build() -> tuple[Any, Any, str | None]:
+    """``(pipeline class, library class, None)``, or ``(None, None, what is missing)`` when
+    numba's class-level internals differ from what link-only compilation needs."""
     from numba.core import codegen as nb_codegen
-    from numba.core import compiler, typed_passes
+    from numba.core import compiler, dispatcher, typed_passes
     from numba.core.compiler_machinery import AnalysisPass, register_pass
 
     library_base = nb_codegen.JITCodeLibrary
     needed = (
+        "finalize",
         "_finalize_dynamic_globals",
         "_verify_declare_only_symbols",
         "_get_module_for_linking",
         "_raise_if_finalized",
         "enable_object_caching",
+        "_get_compiled_object",
     )
-    if not all(hasattr(library_base, name) for name in needed):
-        return None
+    missing = [f"JITCodeLibrary.{name}" for name in needed if not hasattr(library_base, name)]
+    missing += [
+        f"Dispatcher.{name}"
+        for name in ("get_call_template", "get_overload")
+        if not hasattr(dispatcher.Dispatcher, name)
+    ]
+    hook = getattr(nb_codegen.CPUCodeLibrary, "_object_compiled_hook", None)
+    if _MARK not in getattr(getattr(hook, "__code__", None), "co_names", ()):
+        missing.append(f"the module mark {_MARK} read by CPUCodeLibrary._object_compiled_hook")
+    if missing:
+        return None, None, "missing " + ", ".join(missing)
 
     class LinkOnlyLibrary(library_base):  # type: ignore[misc, valid-type]
         """A numba library that links its callees and is neither optimised as a whole nor
@@ -66,6 +157,12 @@ def _build() -> Any:
         enter the execution engine."""
 
         def finalize(self) -> None:
+            try:
+                self._finalize_link_only()
+            except Exception as exc:
+                raise _fail("finalize", exc) from exc
+
+        def _finalize_link_only(self) -> None:
             nb_codegen.require_global_compiler_lock()
             self._raise_if_finalized()
             seen: set[int] = set()
@@ -79,12 +176,15 @@ def _build() -> Any:
             self._finalize_dynamic_globals()
             self._verify_declare_only_symbols()
             environments = _environment_module(self)
-            # the mark CPUCodeLibrary puts on its module, read by the object-cache hooks
-            # (name-mangled inside that class), so that the environments' object code is kept
-            # for the on-disk cache
-            environments._CPUCodeLibrary__library = weakref.proxy(self)
+            # the mark the object-cache hooks read, so that the environments' object code is
+            # kept for the on-disk cache
+            setattr(environments, _MARK, weakref.proxy(self))
             self._codegen._add_module(environments)
             self._codegen._engine.finalize_object()
+            try:
+                self._get_compiled_object()
+            except (RuntimeError, ValueError) as exc:
+                raise RuntimeError(f"the object-cache hooks did not read the mark {_MARK}") from exc
             self._finalized = True
 
     def _environment_module(library: Any) -> Any:
@@ -104,7 +204,7 @@ def _build() -> Any:
     @register_pass(mutates_CFG=False, analysis_only=True)
     class LinkOnlyLibraryPass(AnalysisPass):  # type: ignore[misc, valid-type]
         """Give the function a :class:`LinkOnlyLibrary` before numba's lowering makes it the
-        default one."""
+        default one (unless link-only compilation failed in this process: numba's library)."""
 
         _name = "porenet_link_only_library"
 
@@ -112,10 +212,16 @@ def _build() -> Any:
             AnalysisPass.__init__(self)
 
         def run_pass(self, state: Any) -> bool:
-            if state.library is None:
-                library = LinkOnlyLibrary(state.targetctx.codegen(), state.func_id.func_qualname)
-                library.enable_object_caching()
-                state.library = library
+            if _failed is not None:
+                return False
+            try:
+                if state.library is None:
+                    codegen = state.targetctx.codegen()
+                    library = LinkOnlyLibrary(codegen, state.func_id.func_qualname)
+                    library.enable_object_caching()
+                    state.library = library
+            except Exception as exc:
+                raise _fail("pass", exc) from exc
             return False
 
     class LinkOnlyCompiler(compiler.CompilerBase):  # type: ignore[misc, valid-type]
@@ -128,23 +234,36 @@ def _build() -> Any:
             pm.finalize()
             return [pm]
 
-    return LinkOnlyCompiler
+    return LinkOnlyCompiler, LinkOnlyLibrary, None
 
 
 def available() -> bool:
-    """Whether kernels that only kernels call are compiled for linking only."""
+    """Whether kernels that only kernels call have twins compiled for linking only (False when
+    switched off or unavailable; see :func:`active` for a failure at compile time)."""
     return PIPELINE is not None
 
 
-def _pipeline() -> Any:
+def active() -> bool:
+    """Whether new twins are compiled for linking only in this process: :func:`available` and
+    no link-only compilation has failed."""
+    return PIPELINE is not None and _failed is None
+
+
+def _pipeline() -> tuple[Any, Any]:
     if os.environ.get("PORENET_LINK_ONLY", "1").strip() == "0":
-        return None
+        return None, None
     try:
-        return _build()
-    except Exception as exc:  # pragma: no cover - a numba whose internals differ
-        log.info("kernels compiled as numba does by default (%s)", exc)
-        return None
+        pipeline, library, missing = _build()
+    except Exception as exc:  # a numba whose internals differ
+        pipeline, library, missing = None, None, f"{type(exc).__name__}: {exc}"
+    if missing is not None:
+        _notice(missing)
+    return pipeline, library
 
 
-#: The numba compiler class for kernels that only kernels call, or None (numba's default).
-PIPELINE: Any = _pipeline()
+#: The numba compiler class for kernels that only kernels call, or None: switched off or
+#: unavailable, every kernel is a plain numba dispatcher.
+PIPELINE: Any
+#: The library class :data:`PIPELINE` gives them (None with it).
+LinkOnlyLibrary: Any
+PIPELINE, LinkOnlyLibrary = _pipeline()

@@ -1,6 +1,8 @@
 """Kernels that only kernels call: the ``_callee`` twins of porenet.jit.jit, compiled for
-linking only (porenet.jit.link_only). Each case runs in new processes that share one numba
-cache directory, as a first run, a later run and a run with part of the cache left, do."""
+linking only (porenet.jit.link_only), on a small tree of kernels; switched off, and after a
+failure at compile time, numba's default compilation. Each case runs in new processes that
+share one numba cache directory, as a first run, a later run and a run with part of the cache
+left, do. The same on porenet's real kernels: test_link_only_fallback.py."""
 
 from __future__ import annotations
 
@@ -165,6 +167,51 @@ def test_switched_off_the_same_results(tree):
     off = _run(tmp_path, off_env)
     assert np.allclose(on["result"]["False"][0], off["result"]["False"][0], rtol=1e-15, atol=0)
     assert on["result"]["error"] == off["result"]["error"]
+    # no twin: root calls the kernels' own dispatchers, as numba does by default
+    assert not any(name.endswith("_callee") for name in off["compiled"])
+    assert {"root", "rows", "rows_parallel", "check", "total"} <= set(off["compiled"])
+
+
+# A numba internal the link-only machinery needs, made to fail at compile time: "mark", the
+# object-cache hooks no longer read the mark on the environments' module (the failure comes
+# after the callees were linked in and the environments entered numba's execution engine);
+# "constructor", the library class takes other arguments (the failure is in the pass).
+FAILURES = {
+    "mark": 'link_only._MARK = "_Renamed__library"\n',
+    "constructor": (
+        "def init(self, codegen, name):\n"
+        "    raise TypeError(\"__init__() missing 1 required positional argument: 'options'\")\n"
+        "link_only.LinkOnlyLibrary.__init__ = init\n"
+    ),
+}
+
+
+@pytest.mark.parametrize("failure", sorted(FAILURES))
+def test_a_failure_at_compile_time_falls_back_to_numba_s_default(tree, failure):
+    tmp_path, env = tree
+    patch = "from porenet.jit import link_only\n" + FAILURES[failure]
+    out = subprocess.run(
+        [sys.executable, "-c", patch + PROGRAM], capture_output=True, text=True, env=env,
+        cwd=tmp_path, timeout=300,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr[-2000:]
+    notices = [line for line in out.stderr.splitlines() if "numba does by default" in line]
+    assert len(notices) == 1, out.stderr[-2000:]
+    assert ("_Renamed__library" if failure == "mark" else "TypeError") in notices[0]
+    fell_back = json.loads(out.stdout.strip().splitlines()[-1])
+    # the twins are still compiled (as numba does by default), the first one twice
+    names = fell_back["compiled"]
+    assert "root" in names and len(names) > len(set(names))
+    assert "rows" not in names and "check" not in names
+    ref = _reference()
+    for threaded in ("False", "True"):
+        out_, s = fell_back["result"][threaded]
+        assert np.allclose(out_, ref, rtol=1e-15, atol=0)
+        assert s == pytest.approx(ref.sum(), rel=1e-14)
+    assert fell_back["result"]["error"] == "value at 0 exceeds the limit"
+    # cached like any numba function: a later run (link-only on) loads it all, the same bits
+    later = _run(tmp_path, env)
+    assert later["compiled"] == [] and later["result"] == fell_back["result"]
 
 
 SINGLE = """
@@ -196,8 +243,12 @@ print(json.dumps({"out": out.tolist(), "total": s, "compiled": compiled,
 """
 
 
-def test_the_variant_without_threads_runs_the_serial_loops_and_compiles_no_parallel_one(tree):
+@pytest.mark.parametrize("link_only_switch", ["1", "0"])
+def test_the_variant_without_threads_runs_the_serial_loops_and_compiles_no_parallel_one(
+    tree, link_only_switch
+):
     tmp_path, env = tree
+    env = dict(env, PORENET_LINK_ONLY=link_only_switch)
     out = subprocess.run(
         [sys.executable, "-c", SINGLE], capture_output=True, text=True, env=env, cwd=tmp_path,
         timeout=300,
