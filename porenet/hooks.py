@@ -13,6 +13,11 @@ it receives a ``register`` callback and calls it once per kind::
 ``register(config, implementation)`` takes the pydantic config class (whose ``kind`` field is a
 single ``Literal``) and the implementation class, or a ``"module:Class"`` string imported only
 when a scene selects the kind. Third-party kinds must be namespaced (``"mypackage.kind"``).
+Keywords give what else the kind answers (docs/architecture.md, "What a kind answers"), each
+an object or a lazy ``"module:name"`` string: ``cost=`` its cost estimate
+(:mod:`porenet.core.cost`), ``warm_ups=`` the scenes ``porenet compile`` runs to compile its
+kernels (:class:`porenet.core.kinds.WarmUp`); ``default=True`` makes it the family's default
+kind, which only porenet's own kinds may be.
 
 Loading policy
 --------------
@@ -40,7 +45,7 @@ import os
 from collections.abc import Callable
 from importlib.metadata import EntryPoint, entry_points
 from types import ModuleType
-from typing import Any
+from typing import Any, Protocol
 
 import pluggy
 
@@ -75,8 +80,20 @@ DEFAULT_PLUGINS: dict[str, str] = {
 hookspec = pluggy.HookspecMarker(PROJECT)
 hookimpl = pluggy.HookimplMarker(PROJECT)
 
-#: A ``register(config_class, implementation)`` callback handed to every hook.
-Register = Callable[[type, "type | str | None"], Any]
+
+class Register(Protocol):
+    """The ``register`` callback handed to every hook."""
+
+    def __call__(
+        self,
+        config: type,
+        implementation: type | str | None,
+        *,
+        default: bool = False,
+        cost: Callable[..., Any] | str | None = None,
+        warm_ups: tuple[Any, ...] | str | None = None,
+    ) -> None:
+        """Register the kind of ``config`` (module docstring)."""
 
 
 class HookSpecs:
@@ -218,19 +235,21 @@ def _register_one(
 ) -> None:
     """Call one plugin's register hooks, committing its kinds only if all succeed."""
     plugin = pm.get_plugin(plugin_name)
-    staged: list[tuple[str, type, Any]] = []
+    staged: list[tuple[str, type, Any, dict[str, Any]]] = []
     try:
         for family, hook_name in FAMILY_HOOKS.items():
             for impl in getattr(pm.hook, hook_name).get_hookimpls():
                 if impl.plugin is not plugin:
                     continue
                 impl.function(
-                    register=lambda config, implementation, f=family: staged.append(
-                        (f, config, implementation)
+                    register=lambda config, implementation, f=family, **options: staged.append(
+                        (f, config, implementation, options)
                     )
                 )
-        for family, config, implementation in staged:
-            registry.add(family, config, implementation, package=package, plugin=plugin_name)
+        for family, config, implementation, options in staged:
+            registry.add(
+                family, config, implementation, package=package, plugin=plugin_name, **options
+            )
     except PluginError:
         raise
     except Exception as exc:

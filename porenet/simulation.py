@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from porenet._version import __version__
-from porenet.core.errors import ConfigError, NumericalError
+from porenet.core.errors import ConfigError, NumericalError, PluginError
 from porenet.core.interfaces import (
     Classifier,
     Coupler,
@@ -25,8 +25,10 @@ from porenet.core.interfaces import (
     Lattice,
     Observer,
     RunContext,
+    RunView,
     SolidModel,
 )
+from porenet.core.kinds import implied_observers
 from porenet.core.plan import Plan, make_plan, plan_summary
 from porenet.core.registry import Registry
 from porenet.core.state import State
@@ -43,6 +45,8 @@ log = logging.getLogger(__name__)
 
 #: Chunk size (events) when no observer or coupler asks for a smaller one.
 UNBOUNDED = 1 << 62
+#: Fields of the run data that observers fill (:meth:`Observer.run_data`), each a list.
+RUN_DATA_FIELDS = ("snapshots",)
 
 
 class Simulation:
@@ -118,7 +122,7 @@ class Simulation:
             self.coupler = coupler_entry.load()(scene.solid, self.context)  # type: ignore[misc]
             self.fluid.step_limit = self.coupler.max_steps()
         self.observers: list[Observer] = []
-        for obs_config in (*scene.observers, *_shorthand_observers(scene.fluid)):
+        for obs_config in (*scene.observers, *implied_observers(scene.fluid)):
             self.observers.append(self.registry.get("observer", obs_config.kind).load()(obs_config))
         self.observers.extend(observers)
         #: Labels the pattern at the end (scene section ``[classifier]``), if the plan asks.
@@ -226,9 +230,10 @@ class Simulation:
         if self.solid is not None:
             with notice.phase(solid_phase):
                 self.solid.setup(state)
+        view = self.view()
         for obs in self.observers:
             obs.trigger.reset()
-            obs.attach(self)
+            obs.attach(view)
         self.threads = (
             ThreadGovernor(thread_setting()) if self.fluid.parallel_work() is not None else None
         )
@@ -259,6 +264,18 @@ class Simulation:
         for obs in self.observers:
             if obs.trigger.fires(state):
                 obs.observe(state)
+
+    def view(self) -> RunView:
+        """What the observers see of this run (:class:`~porenet.core.interfaces.RunView`)."""
+        cost = self.plan.cost
+        return RunView(
+            scene=self.plan.scene,
+            lattice=self.lattice,
+            scales=self.scales,
+            expected_drained=None if cost is None else cost.drained,
+            solid_fields=None if self.solid is None else self.solid.snapshot,
+            wall_time=self.wall_time,
+        )
 
     def wall_time(self) -> float:
         """Wall time of the run so far, in seconds: building it, and every stretch it ran
@@ -366,13 +383,14 @@ class Simulation:
             if isinstance(obs, RunFileWriter) and output is not None:
                 obs = RunFileWriter(output)
             kept.append(obs)
+        view = sim.view()
         if progress:
             bar = Progress()
             bar.trigger.reset()
-            bar.attach(sim)
+            bar.attach(view)
             kept.insert(0, bar)
         for obs in kept:
-            obs.resumed(sim)
+            obs.resumed(view)
         sim.observers = kept
         if output is not None:
             import dataclasses
@@ -527,32 +545,16 @@ class Simulation:
             return {}
         raw = self.solid.outputs(self.state)
         return {
-            "mechanics_final": self._solid_si(raw.get("final", {})),
-            "mechanics_series": self._solid_si(raw.get("series", {})),
-        }
-
-    def _solid_si(self, fields: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        """Solid fields or series from scaled units to SI (boolean masks unchanged)."""
-        sc = self.scales
-        force = sc.pressure * sc.area
-        units = {"spring_compression": sc.length, "spring_force": force, "apertures": sc.length,
-                 "displacement": sc.length, "time": sc.time or 1.0,
-                 "max_aperture_change": sc.length, "balance_residual": force,
-                 "shear_force": force, "slip": sc.length}  # fmt: skip
-        return {
-            k: v if np.asarray(v).dtype == bool else np.asarray(v) * units.get(k, 1.0)
-            for k, v in fields.items()
+            "mechanics_final": self.scales.solid_fields(raw.get("final", {})),
+            "mechanics_series": self.scales.solid_fields(raw.get("series", {})),
         }
 
     def _outputs(self) -> dict[str, Any]:
-        """The fluid model's time series (:meth:`FluidModel.outputs`) and the snapshot
-        observers' records (:mod:`porenet.kinds.snapshots.model`), in SI."""
-        from porenet.kinds.snapshots.model import Snapshots
-        from porenet.result import Snapshot
-
+        """The fluid model's time series (:meth:`FluidModel.outputs`), in SI, and the fields
+        of the run data the observers fill (:meth:`Observer.run_data`; lists, such as the
+        ``snapshots`` of two snapshot observers, are joined in the observers' order)."""
         sc = self.scales
         raw = self.fluid.outputs(self.state)
-        records = [r for obs in self.observers if isinstance(obs, Snapshots) for r in obs.records]
         unit = {"time": sc.time or 1.0, "invading_pressure": sc.pressure}
         for name in ("injected", "drained", "stored", "outflow", "released"):
             unit[name] = sc.volume
@@ -561,31 +563,15 @@ class Simulation:
             out["timeseries"] = {
                 k: np.asarray(v) * unit.get(k, 1.0) for k, v in raw["timeseries"].items()
             }
-        if records:
-            out["snapshots"] = [
-                Snapshot(
-                    time=snap["time"] * unit["time"],
-                    saturation=snap["saturation"],
-                    invading_pressure=snap["invading_pressure"] * sc.pressure,
-                    pressure=snap["pressure"] * sc.pressure,
-                    drained=snap["drained"],
-                    mechanics=self._solid_si(snap["mechanics"]),
-                )
-                for snap in records
-            ]
+        for obs in self.observers:
+            for name, value in obs.run_data(sc).items():
+                if name not in RUN_DATA_FIELDS:
+                    raise PluginError(
+                        f"observer {obs.output_name!r} fills {name!r}, which is not a field "
+                        f"of the run data observers fill ({', '.join(RUN_DATA_FIELDS)})"
+                    )
+                out[name] = [*out.get(name, []), *value]
         return out
-
-
-def _shorthand_observers(fluid_config: Any) -> list[Any]:
-    """Observers a fluid config asks for through shorthand fields: the viscous model's
-    ``snapshot_saturations`` and ``snapshot_times`` are one ``snapshots`` observer."""
-    saturations = getattr(fluid_config, "snapshot_saturations", None) or []
-    times = getattr(fluid_config, "snapshot_times", None) or []
-    if not saturations and not times:
-        return []
-    from porenet.kinds.snapshots.config import SnapshotsConfig
-
-    return [SnapshotsConfig(saturations=list(saturations), times=list(times))]
 
 
 def run(

@@ -20,7 +20,8 @@ from pathlib import Path
 
 from fig5 import LAMBDA
 
-from porenet.core.cost import MINDLIN_SLIDING, fracture_weight, sliding_factor
+from porenet.kinds.mindlin.cost import MINDLIN_SLIDING, sliding_factor
+from porenet.kinds.viscous.cost import fracture_weight
 
 #: The shape of a run that a table row averages over its seeds.
 KEYS = ("d_f", "drained", "removed", "straight", "segment")
@@ -65,8 +66,8 @@ def write_status(done: dict, args: argparse.Namespace, frictions: list[float | N
     and N_f), else at the same sliding and N_f with another K_t/K_n, else (with sliding) at
     the runs without sliding at its K_t/K_n and N_f (or another K_t/K_n) times what the cost
     model says sliding multiplies an update's cost by
-    (:func:`porenet.core.cost.sliding_factor`), else unknown. With ``--skip-settled`` a seed
-    after the ones that settled its point is listed as settled, neither missing nor priced."""
+    (:func:`porenet.kinds.mindlin.cost.sliding_factor`), else unknown. With ``--skip-settled`` a
+    seed after the ones that settled its point is listed as settled, neither missing nor priced."""
 
     def cpu_at(**match: float | str | None) -> list[float]:
         match |= {"n": args.n, "rotation": args.rotation,
@@ -301,7 +302,7 @@ def write_sliding_cost(done: dict[tuple, dict], out: Path,
     point and seed (same n, K_t/K_n, rotation, solver tolerance, N_f): their CPU times, the
     ratio, what the cost model estimates that ratio to be (``model_ratio(record)``: its
     whole-run estimate with sliding over the one without, of which only the mechanics carry
-    the factor ``1 + c sqrt(K_t/K_n) w``, :func:`porenet.core.cost.sliding_factor`) and the
+    the factor ``1 + c sqrt(K_t/K_n) w``, :func:`porenet.kinds.mindlin.cost.sliding_factor`) and the
     codes that made the two. Below the table, the constant ``c`` fitted to the points the
     model says sliding makes dearer (above the crossover): the model's ratio is ``1 + c x``
     with ``x`` from its ratio at today's constant, and the c that keeps the worst point's

@@ -58,8 +58,10 @@ FRACTURING = {"FR": None, "FR/VF": "VF", "FR/CF": "CF"}
 
 
 def _rigid(data: RunData) -> bool:
-    solid = (getattr(data, "scene", None) or {}).get("solid") or {}
-    return str(solid.get("kind", "rigid")) == "rigid"
+    """The run's medium could not deform (:func:`porenet.core.plan.scene_is_deformable`)."""
+    from porenet.core.plan import scene_is_deformable
+
+    return not scene_is_deformable(getattr(data, "scene", None) or {}, data.summary)
 
 
 def _without_fracturing(
@@ -84,18 +86,14 @@ def _without_fracturing(
     return Classification(regime, 0.5 * float(verdict.confidence), verdict.details), note
 
 
-#: The classifier kind that stands in when another cannot judge a pattern.
-FALLBACK_KIND = "theory"
-
-
 def _theory(data: RunData) -> tuple[Classification | None, str]:
-    """The fallback classifier's verdict (kind :data:`FALLBACK_KIND`, looked up in the
-    registry like any kind), or None and why the scene determines none."""
-    from porenet.hooks import get_registry
+    """The plan's prediction stored with the run as a verdict
+    (:func:`porenet.analysis.prediction.planned_verdict`), or None and why the scene
+    determines none."""
+    from porenet.analysis.prediction import planned_verdict
 
-    fallback = get_registry().get("classifier", FALLBACK_KIND).load()
     try:
-        return fallback(None).classify(data), ""
+        return planned_verdict(data), ""
     except ValueError as exc:
         return None, str(exc)
 

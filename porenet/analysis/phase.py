@@ -39,6 +39,7 @@ from porenet.analysis.numbers import modified_capillary_number
 from porenet.analysis.regimes import REGIMES
 from porenet.config.loading import get_dotted
 from porenet.core.errors import ConfigError
+from porenet.core.plan import scene_is_deformable
 from porenet.sweep.records import SummaryLike, SweepSummary, as_summary
 
 #: Axis kinds of :func:`phase_points` (and of ``porenet phase-diagram --axes``).
@@ -133,12 +134,8 @@ class _RunCache:
         return self._cache[path]
 
 
-def _deformable_scene(scene: dict[str, Any]) -> bool:
-    return (scene.get("solid") or {}).get("kind", "rigid") != "rigid"
-
-
 def _fracturing_number(scene: dict[str, Any], summary: dict[str, Any]) -> float | None:
-    if not _deformable_scene(scene):
+    if not scene_is_deformable(scene, summary):
         return None
     nf = finite_number(summary.get("fracturing_number"))
     return nf if nf is not None else finite_number(get_dotted(scene, "solid.fracturing_number"))
@@ -156,11 +153,11 @@ def _deformable(table: SweepSummary, runs: _RunCache) -> bool:
     if any(c in table.columns for c in _NF_COLUMNS):
         return True
     for scene in table.scenes.values():
-        return _deformable_scene(scene)
+        return scene_is_deformable(scene)
     for row in table.rows:
         info = runs.get(row.get("run_file"))
         if info is not None:
-            return _deformable_scene(info[0])
+            return scene_is_deformable(info[0], info[1])
     return False
 
 

@@ -255,15 +255,17 @@ def cmd_plot(args: argparse.Namespace) -> int:
 
 def cmd_classify(args: argparse.Namespace) -> int:
     from porenet.analysis.classify import classify_run, describe
+    from porenet.core.kinds import builds_nothing
     from porenet.hooks import get_registry
     from porenet.io.runfile import read_run, update_summary
 
     data = read_run(args.runfile)
     registry = get_registry()
-    kind = args.classifier or data.scene.get("classifier", {}).get("kind", "rules")
-    if kind == "none":
-        kind = "rules"  # the run skipped classification; classifying now is what was asked
-    if ("classifier", kind) not in registry:
+    default = registry.default("classifier")
+    kind = args.classifier or (data.scene.get("classifier") or {}).get("kind", default)
+    if ("classifier", kind) in registry and builds_nothing(registry.get("classifier", kind).config):
+        kind = default  # the run skipped classification; classifying now is what was asked
+    if kind is None or ("classifier", kind) not in registry:
         known = ", ".join(sorted(e.kind for e in registry if e.family == "classifier"))
         raise ConfigError(f"--classifier {kind}: unknown classifier kind (known: {known})")
     entry = registry.get("classifier", kind)

@@ -10,7 +10,7 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
-from porenet.config.scene import DEFAULT_KINDS, SceneBase, scene_model
+from porenet.config.scene import SceneBase, scene_model
 from porenet.core.errors import ConfigError
 from porenet.core.registry import Registry
 
@@ -109,17 +109,18 @@ def apply_overrides(data: dict[str, Any], overrides: list[str] | tuple[str, ...]
     return data
 
 
-def _walk_loc(data: Any, loc: tuple[Any, ...]) -> tuple[list[str], Any]:
+def _walk_loc(data: Any, loc: tuple[Any, ...], defaults: dict[str, str]) -> tuple[list[str], Any]:
     """Dotted path and offending value for a pydantic error location.
 
-    Discriminated unions insert the tag (the section's kind) into ``loc``; it is dropped here.
+    Discriminated unions insert the tag (the section's kind, or its family's default kind in
+    ``defaults``) into ``loc``; it is dropped here.
     """
     parts: list[str] = []
     node = data
     missing = object()
     for item in loc:
         if isinstance(node, dict) and item not in node:
-            section_default = DEFAULT_KINDS.get(parts[-1]) if len(parts) == 1 else None
+            section_default = defaults.get(parts[-1]) if len(parts) == 1 else None
             if item in (node.get("kind"), section_default):
                 continue  # the union tag (given, or the section's default kind)
         if isinstance(item, int):
@@ -149,7 +150,7 @@ def _allowed_fields(
         table = table[index] if index < len(table) else None
     if family in ("injection", "stop"):
         return list(SceneBase.model_fields[family].annotation.model_fields)  # type: ignore[union-attr]
-    kind = table.get("kind", DEFAULT_KINDS.get(family)) if isinstance(table, dict) else None
+    kind = table.get("kind", registry.default(family)) if isinstance(table, dict) else None
     if (family, kind) in registry:
         return list(registry.get(family, kind).config.model_fields)
     return []
@@ -161,7 +162,7 @@ def format_validation_error(
     """One line per problem: ``source: field = value: what is wrong``."""
     lines = []
     for err in exc.errors(include_url=False):
-        parts, value = _walk_loc(data, tuple(err["loc"]))
+        parts, value = _walk_loc(data, tuple(err["loc"]), registry.defaults())
         if err["type"] == "union_tag_invalid" and (not parts or parts[-1] != "kind"):
             # pydantic >= 2.12 reports a bad discriminator at the table, not at its `kind`
             parts, value = [*parts, "kind"], err.get("ctx", {}).get("tag", value)

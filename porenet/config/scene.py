@@ -8,21 +8,13 @@ registry.
 from __future__ import annotations
 
 import functools
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, ClassVar, Literal, Union
 
 from pydantic import Field, create_model, field_validator, model_validator
 
 from porenet.config.base import CheckedModel
 from porenet.core.registry import Registry
 from porenet.core.sites import site_geometry
-
-#: Kind used when a section omits ``kind``.
-DEFAULT_KINDS: dict[str, str] = {
-    "lattice": "square",
-    "fluid": "invasion-percolation",
-    "solid": "rigid",
-    "classifier": "rules",
-}
 
 #: Sections filled with their default kind when a scene omits them.
 DEFAULT_SECTIONS: tuple[str, ...] = ("solid", "classifier")
@@ -79,6 +71,10 @@ class StopConfig(CheckedModel):
 class SceneBase(CheckedModel):
     """Top-level fields of a scene. All physical inputs are SI."""
 
+    #: The kind of a section that names none, by family: the registry's defaults
+    #: (:meth:`porenet.core.registry.Registry.defaults`), set by :func:`scene_model`.
+    default_kinds: ClassVar[dict[str, str]] = {}
+
     seed: int = Field(0, ge=0, description="Seed of the run's numpy Generator (the only RNG).")
     name: str = Field("", description="Free-text label copied into outputs.")
     injection: InjectionConfig = Field(default_factory=InjectionConfig)
@@ -89,7 +85,7 @@ class SceneBase(CheckedModel):
     def _default_kinds(cls, data: Any) -> Any:
         if isinstance(data, dict):
             data = dict(data)
-            for section, kind in DEFAULT_KINDS.items():
+            for section, kind in cls.default_kinds.items():
                 value = data.get(section)
                 if value is None and section in DEFAULT_SECTIONS:
                     data[section] = {"kind": kind}
@@ -120,4 +116,6 @@ def scene_model(registry: Registry) -> type[SceneBase]:
             Field(default_factory=list, description="[[observers]] tables"),
         ),
     }
-    return create_model("SceneConfig", __base__=SceneBase, **fields)
+    model = create_model("SceneConfig", __base__=SceneBase, **fields)
+    model.default_kinds = registry.defaults()
+    return model

@@ -5,7 +5,7 @@ A run is built from one :class:`Lattice`, one :class:`FluidModel`, an optional
 :class:`Observer` objects. They share one :class:`~porenet.core.state.State` and never call each
 other directly: the :class:`~porenet.simulation.Simulation` calls them in this order::
 
-    fluid.setup(state); solid.setup(state); observer.attach(run)  for each observer
+    fluid.setup(state); solid.setup(state); observer.attach(view)  for each observer
     loop:
         fluid.advance(state, max_events)        # drains pores, updates pressures and time
         coupler.exchange(state, solid)          # only for a deformable solid
@@ -24,6 +24,7 @@ mu a/gamma, see :mod:`porenet.core.units`); configs are SI; conversions happen a
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -443,6 +444,50 @@ class Coupler(ABC):
         return None
 
 
+@dataclass(frozen=True)
+class RunView:
+    """What an observer sees of the run: read-only, the same for every observer, built-in or
+    from a plugin. Handed to :meth:`Observer.attach` and :meth:`Observer.resumed`; the State
+    itself comes with every :meth:`Observer.observe`.
+
+    Attributes
+    ----------
+    scene : SceneConfig
+        The validated scene (frozen).
+    lattice : Lattice
+        The run's lattice (pores, throats, coordinates, labels, :meth:`Lattice.sites`); read
+        it, never change it.
+    scales : Scales
+        The SI scales of the run's scaled units (an observer that records converts with them).
+    expected_drained : int or None
+        The pores the plan expects the run to drain (its cost estimate, docs/cost.md), None
+        where it has no estimate.
+    solid_fields : callable or None
+        ``solid_fields(state)``: copies of the solid's fields now, scaled
+        (:meth:`SolidModel.snapshot`); None in a rigid medium.
+    wall_time : callable
+        ``wall_time()``: seconds of wall time the run has taken so far (building it, and every
+        stretch it ran, across checkpoints).
+    """
+
+    scene: Any
+    lattice: Lattice
+    scales: Scales
+    expected_drained: int | None
+    solid_fields: Callable[[State], dict[str, np.ndarray]] | None
+    wall_time: Callable[[], float]
+
+    @property
+    def injection(self) -> Any:
+        """The scene's ``[injection]`` section (``injection.at``: the injection site)."""
+        return self.scene.injection
+
+    @property
+    def stop(self) -> Any:
+        """The scene's ``[stop]`` section."""
+        return self.scene.stop
+
+
 class Observer(ABC):  # noqa: B024 - every hook is optional
     """Sees the State when its trigger fires, and once more at the end.
 
@@ -467,8 +512,8 @@ class Observer(ABC):  # noqa: B024 - every hook is optional
         kind = getattr(self.config, "kind", None)
         return str(kind) if kind else type(self).__name__
 
-    def attach(self, run: Any) -> None:  # noqa: B027 - optional hook
-        """Called once before the loop with the :class:`~porenet.simulation.Simulation`."""
+    def attach(self, run: RunView) -> None:  # noqa: B027 - optional hook
+        """Called once before the loop with what the observer may see of the run."""
 
     def observe(self, state: State) -> None:  # noqa: B027 - optional hook
         """Called after an advance whenever :attr:`trigger` fires."""
@@ -482,10 +527,18 @@ class Observer(ABC):  # noqa: B024 - every hook is optional
         ``RunData.observers[output_name][name]``. Default: nothing (no group)."""
         return {}
 
+    def run_data(self, scales: Scales) -> dict[str, Any]:
+        """Fields of the run's :class:`~porenet.result.RunData` this observer fills, in SI
+        (``scales`` converts): the ``snapshots`` observer gives ``{"snapshots": [Snapshot,
+        ...]}``, stored as the run file's ``/snapshots`` (docs/run-file.md). Called once at
+        the end, like :meth:`outputs`. Default: none (most observers store what they record
+        through :meth:`outputs`)."""
+        return {}
+
     def close(self, state: State, result: Any) -> None:  # noqa: B027 - optional hook
         """Called once at the end with the :class:`~porenet.result.RunResult`."""
 
-    def resumed(self, run: Any) -> None:  # noqa: B027 - optional hook
+    def resumed(self, run: RunView) -> None:  # noqa: B027 - optional hook
         """Called instead of :meth:`attach` when a run goes on from a checkpoint, in a new
         process (docs/run-file.md, "Checkpoints"): the observer was pickled with the run, so
         it keeps what it gathered; reopen here what :meth:`observe` writes to. An observer

@@ -19,6 +19,8 @@ from porenet.analysis.numbers import (
 )
 from porenet.core.cost import CostEstimate, estimate_cost
 from porenet.core.extent import lattice_extent
+from porenet.core.kinds import builds_nothing
+from porenet.core.kinds import effects as effects_of
 from porenet.core.registry import Registry
 from porenet.core.sites import site_geometry
 
@@ -114,11 +116,6 @@ class Plan:
         return "\n".join(lines)
 
 
-def _effects(config: Any) -> dict[str, bool]:
-    effects = getattr(config, "effects", None)
-    return dict(effects()) if callable(effects) else {}
-
-
 def make_plan(
     scene: Any, registry: Registry, *, output: str | Path | None = None, progress: bool = False
 ) -> Plan:
@@ -134,7 +131,7 @@ def make_plan(
     lattice = registry.get("lattice", scene.lattice.kind)
     models.append(ModelPlan("lattice", lattice.kind, lattice.package, True, "pore network"))
     fluid = registry.get("fluid", scene.fluid.kind)
-    effects.update(_effects(scene.fluid))
+    effects.update(effects_of(scene.fluid))
     reason = (
         "pressure solve in the defending fluid"
         if effects["viscous_dissipation"]
@@ -142,8 +139,8 @@ def make_plan(
     )
     models.append(ModelPlan("fluid", fluid.kind, fluid.package, True, reason))
     solid = registry.get("solid", scene.solid.kind)
-    effects.update(_effects(scene.solid))
-    if solid.config.builds_nothing:
+    effects.update(effects_of(scene.solid))
+    if builds_nothing(solid.config):
         models.append(
             ModelPlan("solid", solid.kind, solid.package, False, "rigid: apertures never change")
         )
@@ -162,9 +159,9 @@ def make_plan(
         entry = registry.get("observer", obs.kind)
         models.append(ModelPlan("observer", entry.kind, entry.package, True, "configured"))
     if progress:
-        models.append(ModelPlan("observer", "progress", "porenet", True, "terminal display"))
+        models.append(ModelPlan("observer", "(display)", "porenet", True, "progress on stderr"))
     if output is not None:
-        models.append(ModelPlan("observer", "run-file", "porenet", True, f"writes {output}"))
+        models.append(ModelPlan("observer", "(run file)", "porenet", True, f"writes {output}"))
     numbers = dimensionless_numbers(scene)
     return Plan(
         scene=scene,
@@ -174,44 +171,47 @@ def make_plan(
         progress=progress,
         numbers=numbers,
         regime=predicted_regime(scene, numbers),
-        cost=estimated_cost(scene),
+        cost=estimated_cost(scene, registry),
     )
 
 
 def _classifier_plan(scene: Any, registry: Registry) -> ModelPlan:
     """The classifier slot: built unless the scene has none or asks for none."""
     config = getattr(scene, "classifier", None)
-    kind = str(getattr(config, "kind", "none"))
+    kind = str(getattr(config, "kind", "-"))
     package = "-"
     if ("classifier", kind) in registry:
         package = registry.get("classifier", kind).package
-    if config is None or getattr(type(config), "builds_nothing", False):
+    if config is None or builds_nothing(config):
         return ModelPlan("classifier", kind, package, False, "not requested")
     return ModelPlan(
         "classifier", kind, package, True, "labels the pattern at the end: D_f, regime"
     )
 
 
-def estimated_cost(scene: Any) -> CostEstimate:
+def estimated_cost(scene: Any, registry: Registry | None = None) -> CostEstimate:
     """The cost estimate; a kind the model cannot read gives "unknown", never an error."""
     try:
-        return estimate_cost(scene)
+        return estimate_cost(scene, registry)
     except (AttributeError, TypeError, ValueError, ZeroDivisionError) as exc:
         return CostEstimate(None, None, None, None, None, (f"no estimate: {exc}",))
 
 
 def predicted_regime(scene: Any, numbers: dict[str, float]) -> tuple[str, float] | None:
-    """The regime of docs/model.md section 6 for the scene's Ca* and N_f, with its confidence.
+    """The regime the scene's fluid predicts (its config's ``predict_regime(numbers)``,
+    :mod:`porenet.core.kinds`), or by default the regime of docs/model.md section 6 for the
+    scene's Ca* and N_f, with its confidence.
 
-    Invasion percolation is the limit Ca -> 0 (Ca* None); a rigid solid is N_f = 0. None
+    Quasi-static invasion is the limit Ca -> 0 (Ca* None); a rigid solid is N_f = 0. None
     when a viscous scene's Ca* cannot be computed (no disorder, pressure control).
     """
     from porenet.analysis.regimes import predict_regime
 
+    own = getattr(scene.fluid, "predict_regime", None)
+    if callable(own):
+        return own(numbers)  # type: ignore[no-any-return]
     ca_star = numbers.get(CA_STAR)
-    quasi_static = not bool(
-        getattr(scene.fluid, "effects", lambda: {})().get("viscous_dissipation", False)
-    )
+    quasi_static = not bool(effects_of(scene.fluid).get("viscous_dissipation", False))
     if ca_star is None and not quasi_static:
         return None
     nf = numbers.get(FRACTURING_NUMBER)
@@ -266,18 +266,43 @@ def dimensionless_numbers(scene: Any) -> dict[str, float]:
 
 
 #: The keys of :func:`plan_summary` in a run's ``/summary``.
-PLAN_KEYS = ("plan_ca_star", "plan_fracturing_number", "plan_regime", "plan_regime_confidence")
+PLAN_KEYS = (
+    "plan_ca_star",
+    "plan_fracturing_number",
+    "plan_regime",
+    "plan_regime_confidence",
+    "plan_deformable",
+)
 
 
 def plan_summary(plan: Plan) -> dict[str, Any]:
     """What the plan predicted, for the run's ``/summary`` (docs/run-file.md): Ca*, N_f, the
     regime and its confidence (the regime ``""`` and the others None, not written, where the
-    scene determines none). Stored with the run, so that classifying its run file needs
-    nothing but the file (the ``theory`` classifier reads them)."""
+    scene determines none), and whether a solid model deformed the medium. Stored with the
+    run, so that classifying its run file needs nothing but the file (the analysis reads them:
+    :func:`porenet.analysis.prediction.planned_verdict`, :func:`scene_is_deformable`)."""
     regime = plan.regime
     return {
         "plan_ca_star": plan.numbers.get(CA_STAR),
         "plan_fracturing_number": plan.numbers.get(FRACTURING_NUMBER),
         "plan_regime": "" if regime is None else regime[0],
         "plan_regime_confidence": None if regime is None else float(regime[1]),
+        "plan_deformable": plan.builds("solid"),
     }
+
+
+def scene_is_deformable(scene: dict[str, Any], summary: dict[str, Any] | None = None) -> bool:
+    """Whether a run's medium could deform (and so fracture), from its run file: the plan's
+    record ``plan_deformable`` in ``/summary``, or, for a run file written before porenet
+    stored it (or a scene without a summary), whether its solid kind builds a model (a kind
+    that builds nothing, the rigid medium, cannot). A solid kind this process does not know
+    (its plugin is not installed) counts as deformable."""
+    if summary and "plan_deformable" in summary:
+        return bool(summary["plan_deformable"])
+    from porenet.hooks import get_registry
+
+    registry = get_registry()
+    kind = ((scene or {}).get("solid") or {}).get("kind", registry.default("solid"))
+    if ("solid", kind) not in registry:
+        return True
+    return not builds_nothing(registry.get("solid", kind).config)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import difflib
 import importlib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -35,6 +35,14 @@ class Entry:
         Distribution that provides it (``porenet`` for built-ins).
     plugin : str
         Name of the plugin (entry point) that registered it.
+    default : bool
+        The family's default kind: the kind of a scene section that names none.
+    cost : callable, str or None
+        The kind's cost estimate (:mod:`porenet.core.cost`), or a lazy ``"module:function"``;
+        None: the kind provides none.
+    warm_ups : tuple, str or None
+        The kind's compile warm-ups (:class:`porenet.core.kinds.WarmUp`), or a lazy
+        ``"module:NAME"``; None: none.
     """
 
     family: str
@@ -43,19 +51,32 @@ class Entry:
     implementation: type | str | None
     package: str
     plugin: str
+    default: bool = False
+    cost: Callable[..., Any] | str | None = None
+    warm_ups: tuple[Any, ...] | str | None = None
 
     def load(self) -> type | None:
         """Return the implementation class, importing it if it was given as a string."""
-        impl = self.implementation
-        if impl is None or isinstance(impl, type):
-            return impl
-        module_name, _, attr = impl.partition(":")
+        return self._resolve(self.implementation, "implementation")  # type: ignore[no-any-return]
+
+    def load_cost(self) -> Callable[..., Any] | None:
+        """The kind's cost estimate function, imported if given as a string (None: none)."""
+        return self._resolve(self.cost, "cost estimate")  # type: ignore[no-any-return]
+
+    def load_warm_ups(self) -> tuple[Any, ...]:
+        """The kind's compile warm-ups, imported if given as a string (empty: none)."""
+        return tuple(self._resolve(self.warm_ups, "warm-ups") or ())
+
+    def _resolve(self, value: Any, what: str) -> Any:
+        if not isinstance(value, str):
+            return value
+        module_name, _, attr = value.partition(":")
         try:
-            return getattr(importlib.import_module(module_name), attr)  # type: ignore[no-any-return]
+            return getattr(importlib.import_module(module_name), attr)
         except (ImportError, AttributeError) as exc:
             raise PluginError(
                 f"{self.family} kind {self.kind!r} from package {self.package!r}: cannot import "
-                f"implementation {impl!r}: {exc}"
+                f"{what} {value!r}: {exc}"
             ) from exc
 
 
@@ -75,15 +96,21 @@ class Registry:
         *,
         package: str = BUILTIN_PACKAGE,
         plugin: str = BUILTIN_PACKAGE,
+        default: bool = False,
+        cost: Callable[..., Any] | str | None = None,
+        warm_ups: tuple[Any, ...] | str | None = None,
     ) -> Entry:
-        """Register ``config``/``implementation`` under the config's ``kind``.
+        """Register ``config``/``implementation`` under the config's ``kind``, with the
+        kind's optional ``cost`` estimate and compile ``warm_ups`` (each an object or a lazy
+        ``"module:name"``); ``default`` makes it the family's default kind (only porenet's own
+        kinds may be: what a scene means must not depend on the plugins installed).
 
         Raises
         ------
         PluginError
             Unknown family, a config that is not a ModelConfig with a single-literal ``kind``, a
-            third-party kind without a namespace (``"pkg.name"``), or a duplicate kind (the
-            message names both packages).
+            third-party kind without a namespace (``"pkg.name"``), a duplicate kind (the
+            message names both packages), a third-party default or a second default.
         """
         from porenet.config.base import ModelConfig
 
@@ -111,11 +138,27 @@ class Registry:
             )
         if not (implementation is None or isinstance(implementation, type | str)):
             raise PluginError(f"plugin {plugin!r}: implementation of {kind!r} must be a class")
-        if isinstance(implementation, str) and ":" not in implementation:
-            raise PluginError(
-                f"plugin {plugin!r}: implementation {implementation!r} must read 'module:Class'"
-            )
-        entry = Entry(family, kind, config, implementation, package, plugin)
+        for what, value in (("implementation", implementation), ("cost", cost),
+                            ("warm_ups", warm_ups)):  # fmt: skip
+            if isinstance(value, str) and ":" not in value:
+                raise PluginError(f"plugin {plugin!r}: {what} {value!r} must read 'module:name'")
+        if not (cost is None or isinstance(cost, str) or callable(cost)):
+            raise PluginError(f"plugin {plugin!r}: cost of {kind!r} must be a function")
+        if default:
+            if package != BUILTIN_PACKAGE:
+                raise PluginError(
+                    f"plugin {plugin!r} (package {package!r}): only porenet's own kinds may be a "
+                    f"family's default kind ({family} kind {kind!r}): a scene's meaning must not "
+                    "depend on the plugins installed"
+                )
+            current = self.default(family)
+            if current is not None:
+                raise PluginError(
+                    f"{family} kinds {current!r} and {kind!r} are both registered as the default"
+                )
+        entry = Entry(
+            family, kind, config, implementation, package, plugin, default, cost, warm_ups
+        )
         self._entries[family][kind] = entry
         return entry
 
@@ -130,6 +173,17 @@ class Registry:
             raise ConfigError(
                 f"unknown {family} kind {kind!r}{hint}; registered: {', '.join(known) or 'none'}"
             ) from None
+
+    def default(self, family: str) -> str | None:
+        """The family's default kind (the kind of a scene section that names none), or None."""
+        for entry in self._entries.get(family, {}).values():
+            if entry.default:
+                return entry.kind
+        return None
+
+    def defaults(self) -> dict[str, str]:
+        """``{family: default kind}`` for the families that have one."""
+        return {f: kind for f in FAMILIES if (kind := self.default(f)) is not None}
 
     def kinds(self, family: str) -> list[str]:
         """Registered kinds of a family, sorted."""

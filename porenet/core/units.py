@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 
 @dataclass(frozen=True)
 class Scales:
@@ -45,3 +47,18 @@ class Scales:
     def volume(self) -> float:
         """Volume scale ``a**3`` (m^3)."""
         return self.length**3
+
+    def solid_fields(self, fields: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """A solid's fields or per-update series (:meth:`porenet.core.interfaces.SolidModel.
+        outputs`, ``snapshot``) from scaled units to SI, by name; boolean masks and names it
+        does not know are unchanged."""
+        force = self.pressure * self.area
+        units = {"spring_compression": self.length, "spring_force": force,
+                 "apertures": self.length, "displacement": self.length,
+                 "time": self.time or 1.0, "max_aperture_change": self.length,
+                 "balance_residual": force, "shear_force": force,
+                 "slip": self.length}  # fmt: skip
+        return {
+            k: v if np.asarray(v).dtype == bool else np.asarray(v) * units.get(k, 1.0)
+            for k, v in fields.items()
+        }

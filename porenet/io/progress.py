@@ -18,11 +18,13 @@ import sys
 import time
 from typing import Any, TextIO
 
-from porenet.core.interfaces import Observer
+from porenet.config.base import ModelConfig
+from porenet.core.interfaces import Observer, RunView
 from porenet.core.state import State
 from porenet.core.triggers import EverySeconds
-from porenet.kinds.progress.config import ProgressConfig
 
+#: Refresh interval (s of wall time) without a config that sets one.
+EVERY_SECONDS = 0.5
 #: The ETA is shown only after this much wall time (s) ...
 ETA_MIN_ELAPSED = 2.0
 #: ... and this fraction of the expected drained pores.
@@ -61,23 +63,25 @@ class Progress(Observer):
 
     Parameters
     ----------
-    config : ProgressConfig, optional
+    config : ModelConfig, optional
+        The scene's ``progress`` observer section, if it has one: its ``every_seconds`` is
+        the refresh interval (default :data:`EVERY_SECONDS`).
     stream : text stream, optional
         Where to write (default ``sys.stderr``).
     expected_drained : int, optional
         Pores the run is expected to drain, for the ETA. Default: the plan's cost estimate
-        (``run.plan.cost.drained``), read at :meth:`attach`.
+        (``run.expected_drained``), read at :meth:`attach`.
     """
 
     def __init__(
         self,
-        config: ProgressConfig | None = None,
+        config: ModelConfig | None = None,
         stream: TextIO | None = None,
         expected_drained: int | None = None,
     ) -> None:
-        super().__init__(config or ProgressConfig())
+        super().__init__(config)
         self.stream = stream if stream is not None else sys.stderr
-        self.trigger = EverySeconds(self.config.every_seconds)
+        self.trigger = EverySeconds(float(getattr(config, "every_seconds", EVERY_SECONDS)))
         self._t0 = time.perf_counter()
         self._total = 0
         self._expected = expected_drained
@@ -94,7 +98,7 @@ class Progress(Observer):
         out["stream"] = None
         return out
 
-    def resumed(self, run: Any) -> None:
+    def resumed(self, run: RunView) -> None:
         if self.stream is None:
             self.stream = sys.stderr
             self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
@@ -104,13 +108,12 @@ class Progress(Observer):
         """The drained pores the ETA counts on (None: no ETA)."""
         return self._expected
 
-    def attach(self, run: Any) -> None:
+    def attach(self, run: RunView) -> None:
         self._t0 = time.perf_counter()
         self._total = run.lattice.n_pores
         self._time_scale = run.scales.time
         if self._expected is None:
-            cost = getattr(getattr(run, "plan", None), "cost", None)
-            self._expected = getattr(cost, "drained", None)
+            self._expected = run.expected_drained
         if self._expected is not None:
             self._expected = min(int(self._expected), self._total)
 

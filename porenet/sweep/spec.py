@@ -331,10 +331,8 @@ def resolved_view(
     incomplete until the derived key fills it (a viscous fluid without its Ca)."""
     from pydantic import ValidationError
 
-    from porenet.config.scene import DEFAULT_KINDS
-
     view = copy.deepcopy(data)
-    for family, default in DEFAULT_KINDS.items():
+    for family, default in registry.defaults().items():
         section = view.get(family)
         if section is None and family != "lattice" and family != "fluid":
             section = {}

@@ -18,8 +18,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
 def _require_mechanics(data: RunData) -> None:
     if data.final_apertures is None or "removed_springs" not in data.mechanics_final:
-        kind = data.scene.get("solid", {}).get("kind", "rigid")
-        raise ValueError(f"this is a {kind!r} (rigid) run: no mechanics recorded")
+        kind = (data.scene.get("solid") or {}).get("kind", "the default")
+        raise ValueError(f"this run's solid ({kind!r}) recorded no mechanics: a rigid medium")
 
 
 def aperture_change(data: RunData) -> np.ndarray:

@@ -126,7 +126,9 @@ def scene_title(data: Any, extra: list[str] | None = None, width: int = 48) -> s
     scene = data.scene
     lat, fluid, solid = scene.get("lattice", {}), scene.get("fluid", {}), scene.get("solid", {})
     kind = fluid.get("kind", "")
-    if solid.get("kind") not in (None, "rigid"):
+    from porenet.core.plan import scene_is_deformable
+
+    if solid.get("kind") is not None and scene_is_deformable(scene, data.summary):
         kind = f"{kind} + {solid['kind']}" if kind else solid["kind"]
     parts = [scene.get("name") or kind]
     shape = lat.get("shape")

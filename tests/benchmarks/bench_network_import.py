@@ -25,7 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "unit"))
+sys.path.insert(
+    0, str(Path(__file__).resolve().parents[2] / "porenet" / "kinds" / "network" / "tests")
+)
 
 from network_helpers import jittered_cubic
 

@@ -68,14 +68,15 @@ MAY_BE_NAN = frozenset({"/summary/fractal_dimension", "/summary/fractal_dimensio
 def _keys(kinds: dict[str, str] | None = None) -> list[str]:
     """Every dotted field of the scene schema: of the given kind of each family (``kinds``),
     or of every registered kind."""
-    from porenet.config.scene import DEFAULT_KINDS, InjectionConfig, SceneBase, StopConfig
+    from porenet.config.scene import InjectionConfig, SceneBase, StopConfig
     from porenet.hooks import get_registry
 
     keys = [k for k in SceneBase.model_fields if k not in ("injection", "stop")]
     keys += [f"injection.{k}" for k in InjectionConfig.model_fields]
     keys += [f"stop.{k}" for k in StopConfig.model_fields]
     keys += ["lattice", "fluid", "solid", "classifier", "observers"]  # whole sections
-    wanted = None if kinds is None else {**DEFAULT_KINDS, "solid": "rigid", **kinds}
+    defaults = get_registry().defaults()
+    wanted = None if kinds is None else {**defaults, "solid": "rigid", **kinds}
     for entry in get_registry():
         if entry.config is None or entry.family in ("coupler", "observer"):
             continue

@@ -8,7 +8,7 @@ import numba
 
 from porenet.config.loading import load_scene
 from porenet.jit.compilation import CompileNotice
-from porenet.jit.warmup import WARM_UPS
+from porenet.jit.warmup import kind_warm_ups
 
 
 def _fresh_kernel():
@@ -66,5 +66,9 @@ def test_disabled_notices_write_nothing_but_count(caplog):
 
 
 def test_the_warm_up_scenes_are_valid():
-    for warm in WARM_UPS:
+    """Every registered kind's warm-ups (porenet compile) are valid scenes, with unique names
+    (the command reports them by name)."""
+    warm_ups = kind_warm_ups()
+    assert len({w.name for w in warm_ups}) == len(warm_ups) >= 14
+    for warm in warm_ups:
         load_scene(warm.scene)

@@ -8,19 +8,13 @@ from types import SimpleNamespace
 import pytest
 
 from porenet.config.loading import load_scene
-from porenet.core.cost import (
-    CostEstimate,
-    adaptive_update_fraction,
-    estimate_cost,
-    explicit_step,
-    format_bytes,
-    format_seconds,
-    fracture_weight,
-    ip_drained_fraction,
-)
+from porenet.core.cost import CostEstimate, estimate_cost, format_bytes, format_seconds
 from porenet.core.plan import estimated_cost as plan_cost
 from porenet.core.plan import make_plan
 from porenet.hooks import get_registry
+from porenet.kinds.hertz.cost import adaptive_ramp
+from porenet.kinds.invasion.cost import ip_drained_fraction
+from porenet.kinds.viscous.cost import explicit_step, fracture_weight
 from porenet.simulation import Simulation
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
@@ -69,8 +63,8 @@ def test_fig5_fractures_and_updates_the_solid():
 
 
 def test_stiff_solid_and_coupling_schedules():
-    assert adaptive_update_fraction(0.001) == 0.0 and adaptive_update_fraction(1.0) == 0.3
-    assert 0 < adaptive_update_fraction(0.03) < 0.3
+    assert adaptive_ramp(0.001) == 0.0 and adaptive_ramp(1.0) == 1.0
+    assert 0 < adaptive_ramp(0.03) < 1.0
     assert fracture_weight(None) == 0 and fracture_weight(0.1) == 0 and fracture_weight(10) == 1
     base = SCENES / "fig5.toml"
     every = estimate_cost(load_scene(base, ["lattice.n=50", "solid.coupling=every-step"]))

@@ -142,7 +142,8 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
 ):
     # with sliding and no run at that N_f yet: the run without sliding times the cost model's
     # factor; with --skip-settled a third seed after two that found the same cross is not due
-    from porenet.core.cost import MINDLIN_SLIDING, fracture_weight, sliding_factor
+    from porenet.kinds.mindlin.cost import MINDLIN_SLIDING, sliding_factor
+    from porenet.kinds.viscous.cost import fracture_weight
 
     cross = {"n": 400, "ratio": 0.5, "friction": None, "rotation": "held", "nf": 10.0,
              "d_f": 1.0111, "drained": 790, "removed": 798, "straight": 398, "segment": 197.0,
@@ -188,7 +189,8 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
 def test_fracture_shear_sliding_cost_pairs_runs_and_fits_the_cost_model(tmp_path):
     # each run with sliding beside the same point and seed without it, against the cost
     # model's whole-run estimate of that ratio; c fitted to keep the worst pair closest
-    from porenet.core.cost import MINDLIN_SLIDING, estimate_cost
+    from porenet.core.cost import estimate_cost
+    from porenet.kinds.mindlin.cost import MINDLIN_SLIDING
 
     _scripts_importable()
     from fig5 import make_scene
@@ -247,7 +249,7 @@ def test_fracture_shear_sliding_cost_pairs_runs_and_fits_the_cost_model(tmp_path
 def test_sliding_cost_fits_each_points_median_not_its_worst_seed(tmp_path):
     # one point, three seeds costing 1.5x, 2x and 4x: the model sees the point, not the seed,
     # so c follows the median (1 + c x = 2), and the summary says how far the seeds stray
-    from porenet.core.cost import MINDLIN_SLIDING
+    from porenet.kinds.mindlin.cost import MINDLIN_SLIDING
 
     _scripts_importable()
     from fracture_shear_tables import POINT, write_sliding_cost

@@ -15,10 +15,10 @@ from porenet.io.progress import (
     LOG_FRACTION,
     LOG_SECONDS,
     Progress,
-    ProgressConfig,
     eta_text,
     format_duration,
 )
+from porenet.kinds.progress.config import ProgressConfig
 from porenet.simulation import Simulation
 
 
@@ -53,7 +53,8 @@ def _attached(progress: Progress, n_pores: int, time_scale: float | None = None)
     """Attach ``progress`` to a stand-in for a run of ``n_pores`` pores (no plan: no ETA
     unless the progress was given an expected count)."""
     run = SimpleNamespace(lattice=SimpleNamespace(n_pores=n_pores),
-                          scales=SimpleNamespace(time=time_scale), plan=None)  # fmt: skip
+                          scales=SimpleNamespace(time=time_scale),
+                          expected_drained=None)  # fmt: skip
     progress.attach(run)
 
 

@@ -7,7 +7,7 @@ is imported only when a scene builds it.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from pydantic import Field, ValidationInfo, field_validator, model_validator
@@ -99,6 +99,15 @@ class CubicLatticeConfig(ModelConfig):
             canonical_grid=nz == 1 and nx == ny, disorder=self.disorder,
             size_field=f"lattice.shape = {list(self.shape)}",
         )  # fmt: skip
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene on a 6 x 6 x 6 cubic lattice (the contract suite runs it)."""
+        from porenet.kinds.scenes import INVASION, tiny_scene
+
+        return tiny_scene(INVASION) | {
+            "lattice": {"kind": "cubic", "shape": [6, 6, 6], "disorder": 0.3}
+        }
 
 
 def load_cubic_apertures_file(path: Path, shape: tuple[int, int, int]) -> np.ndarray:

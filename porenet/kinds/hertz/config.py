@@ -7,7 +7,7 @@ validate`` and ``porenet plan`` import no numerics; the solid,
 
 from __future__ import annotations
 
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
@@ -135,3 +135,10 @@ class HertzConfig(ModelConfig):
 
     def effects(self) -> dict[str, bool]:
         return {"deformation": True, "contact_loss": True}
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene of invasion percolation in this solid (the contract suite runs it)."""
+        from porenet.kinds.scenes import HERTZ, INVASION, tiny_scene
+
+        return tiny_scene(INVASION, solid=HERTZ)

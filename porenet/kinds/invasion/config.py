@@ -6,7 +6,7 @@ Pure Python (pydantic and porenet's light modules); the model,
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field
 
@@ -28,3 +28,11 @@ class InvasionPercolationConfig(ModelConfig):
 
     def effects(self) -> dict[str, bool]:
         return {"capillarity": True, "viscous_dissipation": False, "trapping": self.trapping}
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene of invasion percolation on the square lattice (the contract suite runs
+        it)."""
+        from porenet.kinds.scenes import INVASION, tiny_scene
+
+        return tiny_scene(INVASION)

@@ -6,7 +6,7 @@ is imported only when a scene builds it.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field, model_validator
 
@@ -120,3 +120,13 @@ class HertzMindlinConfig(HertzConfig):
             "sliding": sheared and self.friction is not None,
             "particle_rotation": sheared and self.rotation == "free",
         }
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene of invasion percolation in this solid (the contract suite runs it)."""
+        from porenet.kinds.scenes import INVASION, tiny_scene
+
+        return tiny_scene(
+            INVASION,
+            solid={"kind": "hertz-mindlin", "fracturing_number": 1.0, "shear_stiffness_ratio": 0.5},
+        )

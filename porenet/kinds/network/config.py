@@ -10,7 +10,7 @@ of the Statoil files, never the whole network; the lattice
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field, ValidationInfo, field_validator
 
@@ -145,6 +145,28 @@ class NetworkLatticeConfig(ModelConfig):
             outlet_links={"centre": 2 * d * face, "face": face}, canonical_grid=False,
             disorder=None, size_field=f"lattice.file = {self.file.name}",
         )  # fmt: skip
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene on a network shipped with porenet (OpenPNM's ``Cubic(shape=[8, 6, 1])``
+        with its ``spheres_and_cylinders`` geometry, written by
+        ``tests/data/networks/make_reference_networks.py``), from its left face to its right
+        one (the contract suite runs it)."""
+        from porenet.kinds.scenes import INVASION
+
+        network = Path(__file__).resolve().parent / "data" / "openpnm-cubic-8x6.npz"
+        return {
+            "seed": 1,
+            "lattice": {
+                "kind": "network",
+                "file": str(network),
+                "pore_size": 9.93e-6,  # the file's mean throat radius (m)
+                "outlet": "pore.right",
+            },
+            "fluid": INVASION,
+            "injection": {"at": "pore.left"},
+            "classifier": {"kind": "none"},  # 20 pores: too few to classify
+        }
 
 
 def _header(info: ValidationInfo) -> NetworkHeader | None:

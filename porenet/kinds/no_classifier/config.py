@@ -6,7 +6,7 @@ A classifier labels a finished run with a regime (docs/model.md section 7); the 
 
 from __future__ import annotations
 
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 from porenet.config.base import ModelConfig
 
@@ -16,3 +16,10 @@ class NoClassifierConfig(ModelConfig):
 
     kind: Literal["none"] = "none"
     builds_nothing: ClassVar[bool] = True
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene that skips the classification (the contract suite runs it)."""
+        from porenet.kinds.scenes import INVASION, tiny_scene
+
+        return tiny_scene(INVASION, classifier={"kind": "none"})

@@ -6,7 +6,7 @@ Pure Python, so that the scene schema imports no numerics; the coupler,
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from porenet.config.base import ModelConfig
 
@@ -16,3 +16,11 @@ class PressureApertureConfig(ModelConfig):
     ``coupling_interval``, ``coupling_tolerance``)."""
 
     kind: Literal["pressure-aperture"] = "pressure-aperture"
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene of a deformable medium, which this coupler couples (the contract suite runs
+        it)."""
+        from porenet.kinds.scenes import HERTZ, INVASION, tiny_scene
+
+        return tiny_scene(INVASION, solid=HERTZ)

@@ -6,7 +6,7 @@ Pure Python, so that the scene schema imports no observer; the display,
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field
 
@@ -18,3 +18,10 @@ class ProgressConfig(ModelConfig):
 
     kind: Literal["progress"] = "progress"
     every_seconds: float = Field(0.5, gt=0, description="Refresh interval (s of wall time).")
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene with this observer (the contract suite runs it)."""
+        from porenet.kinds.scenes import INVASION, tiny_scene
+
+        return tiny_scene(INVASION, observers=[{"kind": "progress"}])

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 from porenet.config.base import ModelConfig
 
@@ -15,3 +15,10 @@ class RigidConfig(ModelConfig):
 
     def effects(self) -> dict[str, bool]:
         return {"deformation": False, "contact_loss": False}
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene in a rigid medium (the contract suite runs it)."""
+        from porenet.kinds.scenes import INVASION, tiny_scene
+
+        return tiny_scene(INVASION, solid={"kind": "rigid"})

@@ -7,7 +7,7 @@ classifier, :mod:`porenet.kinds.rules.model`, is imported only when a run classi
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field, model_validator
 
@@ -55,3 +55,10 @@ class RulesClassifierConfig(ModelConfig):
                 f"fracture_fraction ({self.fracture_fraction})"
             )
         return self
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene classified by this classifier (the contract suite runs it)."""
+        from porenet.kinds.scenes import INVASION, tiny_scene
+
+        return tiny_scene(INVASION, classifier={"kind": "rules"})

@@ -6,7 +6,7 @@ Pure Python, so that the scene schema imports no observer; the observer,
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field, model_validator
 
@@ -35,3 +35,10 @@ class SnapshotsConfig(ModelConfig):
         if any(not t > 0 for t in self.times):
             raise ValueError("'times' must be positive (s)")
         return self
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene with this observer (the contract suite runs it)."""
+        from porenet.kinds.scenes import VISCOUS, tiny_scene
+
+        return tiny_scene(VISCOUS, observers=[{"kind": "snapshots", "saturations": [0.01, 0.02]}])

@@ -8,7 +8,7 @@ validate`` and ``porenet plan`` import no numerics beyond numpy; the lattice,
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from pydantic import Field, ValidationInfo, field_validator, model_validator
@@ -87,3 +87,10 @@ class SquareLatticeConfig(ModelConfig):
             outlet_links={"centre": 4 * n, "face": n}, canonical_grid=True,
             disorder=self.disorder, size_field=f"lattice.n = {n}",
         )  # fmt: skip
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene on this lattice (the contract suite runs it)."""
+        from porenet.kinds.scenes import INVASION, tiny_scene
+
+        return tiny_scene(INVASION)

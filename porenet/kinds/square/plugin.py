@@ -1,5 +1,6 @@
 """Registers this kind through the hook any plugin implements (docs/architecture.md, rule 1):
-the config is imported here, the implementation only when a scene builds it."""
+the config is imported here; the implementation, and the cost estimate and compile warm-ups
+where the kind has them, are named by ``"module:name"`` and imported only when used."""
 
 from __future__ import annotations
 
@@ -9,4 +10,4 @@ from porenet.kinds.square.config import SquareLatticeConfig
 
 @hookimpl
 def porenet_register_lattices(register: Register) -> None:
-    register(SquareLatticeConfig, "porenet.kinds.square.model:SquareLattice")
+    register(SquareLatticeConfig, "porenet.kinds.square.model:SquareLattice", default=True)

@@ -8,7 +8,7 @@ estimate (:mod:`porenet.kinds.viscous.cost`) applies the same rule as the model.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field, model_validator
 
@@ -191,3 +191,24 @@ class ViscousConfig(ModelConfig):
 
     def effects(self) -> dict[str, bool]:
         return {"capillarity": True, "viscous_dissipation": True, "trapping": True}
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene of viscous drainage on the square lattice (the contract suite runs it)."""
+        from porenet.kinds.scenes import VISCOUS, tiny_scene
+
+        return tiny_scene(VISCOUS)
+
+    def implied_observers(self) -> list[ModelConfig]:
+        """``snapshot_saturations`` and ``snapshot_times`` are a shorthand for one
+        ``snapshots`` observer (docs/run-file.md)."""
+        if not self.snapshot_saturations and not self.snapshot_times:
+            return []
+        from porenet.kinds.snapshots.config import SnapshotsConfig
+
+        return [
+            SnapshotsConfig(
+                saturations=list(self.snapshot_saturations or []),
+                times=list(self.snapshot_times or []),
+            )
+        ]

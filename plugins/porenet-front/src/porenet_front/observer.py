@@ -8,7 +8,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from porenet.core.interfaces import Observer
+from porenet.core.interfaces import Observer, RunView
 from porenet.core.state import State
 from porenet.core.triggers import Schedule
 from porenet_front.config import FrontConfig
@@ -50,13 +50,13 @@ class FrontObserver(Observer):
         self.geometry: FrontGeometry | None = None
         self.units = (1.0, 1.0, 1.0)  # length (m), pressure (Pa), time (s) of the scaled State
 
-    def attach(self, run: Any) -> None:
+    def attach(self, run: RunView) -> None:
         """Fix the schedule (every ``ceil(every x n_pores)`` drained pores), the lattice's
         front geometry for the scene's injection site and the SI units of the run."""
         n = run.lattice.n_pores
         step = math.ceil(self.config.every * n)
         self.trigger = Schedule(list(range(step, n + 1, step)))
-        self.geometry = front_geometry(run.lattice, run.context.injection.at)
+        self.geometry = front_geometry(run.lattice, run.injection.at)
         scales = run.scales
         self.units = (scales.length, scales.pressure, scales.time or 0.0)  # no clock: t = 0
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from porenet.kinds.network.files import NetworkData
 
-EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "networks" / "delaunay-2d.npz"
+EXAMPLE = Path(__file__).resolve().parents[4] / "examples" / "networks" / "delaunay-2d.npz"
 
 
 def example_dict() -> dict[str, np.ndarray]:

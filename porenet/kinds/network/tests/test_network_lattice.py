@@ -411,7 +411,7 @@ def test_missing_statoil_files_are_named(tmp_path):
 
 # -- files written by OpenPNM and PoreSpy themselves ------------------------------------------
 
-REFERENCE = Path(__file__).resolve().parents[1] / "data" / "networks"
+REFERENCE = Path(__file__).resolve().parents[4] / "tests" / "data" / "networks"
 
 
 def test_an_openpnm_network_runs():
