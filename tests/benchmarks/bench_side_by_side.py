@@ -50,7 +50,10 @@ CASES: dict[str, tuple[str, list[str]]] = {
 PROGRAM = """
 import json, statistics, sys
 from porenet.simulation import Simulation
-from porenet.jit.threads import configure_threads
+try:
+    from porenet.jit.threads import configure_threads
+except ImportError:  # a baseline from before the jit/ package
+    from porenet.threads import configure_threads
 configure_threads(int(sys.argv[3]))
 scene, overrides = sys.argv[1], json.loads(sys.argv[2]) + ["classifier.kind=none"]
 
