@@ -17,9 +17,13 @@ tests::
         check()
 
 :func:`contract_checks` gives the checks of one kind as :class:`Check` objects (a name and a
-callable; ``str(check)`` is the test id ``family:kind:name``); :func:`check_kind` runs them
-all and raises one AssertionError naming the kind and every promise it breaks;
-:func:`covered_kinds` says which kinds of a registry the suite can check.
+callable; ``str(check)`` is the test id ``family:kind:name``); :func:`contract_test` is that
+test in one line (``test_contract = contract_test("fluid", KIND, registry=REGISTRY)``);
+:func:`check_kind` runs them all and raises one AssertionError naming the kind and every
+promise it breaks; :func:`covered_kinds` says which kinds of a registry the suite can check.
+:func:`plugin_registry` builds the registry a plugin's tests check in (porenet's kinds and the
+plugin's, no installed plugin) and :func:`registry_fixture` gives it to them from their
+``conftest.py``.
 
 The scene
 ---------
@@ -47,8 +51,8 @@ Every kind:
 * ``implementation``: the registered implementation imports and subclasses the role's
   interface (``None`` only for a config that ``builds_nothing``).
 * ``light-import`` (kinds registered with a lazy ``"module:Class"``): importing the config's
-  module and the plugin's module, in a fresh interpreter, imports neither numba nor the
-  implementation's module (docs/architecture.md, rule 3).
+  module and the plugin's module, in a fresh interpreter, imports none of :data:`HEAVY`
+  (numba, scipy) and not the implementation's module (docs/architecture.md, rule 3).
 * ``runs``: the example scene validates, selects the kind, builds the role's object (none for a
   kind that builds nothing) and runs; the summary has ``stop_reason`` and ``n_drained``.
 * ``deterministic``: a second run with the same seed gives the same run data to the bit: the
@@ -152,6 +156,8 @@ FORCE_ROUND_OFF = 1e-9
 TOLERANCE_FIELDS = ("solver_tolerance", "slip_tolerance")
 TOLERANCE_FACTOR = 10.0
 
+#: Modules a kind's config and plugin modules must not import (``light-import``).
+HEAVY = ("numba", "scipy")
 #: The scene section of each family's kind (couplers have none: see the module docstring).
 SECTIONS = {"lattice": "lattice", "fluid": "fluid", "solid": "solid",
             "classifier": "classifier", "observer": "observers"}  # fmt: skip
@@ -234,6 +240,53 @@ def plugin_registry(plugins: dict[str, types.ModuleType] | None = None) -> Regis
             del os.environ["PORENET_PLUGINS"]
         else:
             os.environ["PORENET_PLUGINS"] = before
+
+
+def contract_test(
+    family: str,
+    kind: str,
+    *,
+    scene: dict[str, Any] | None = None,
+    registry: Registry | None = None,
+) -> Callable[[Check], None]:
+    """A pytest test of one kind, one case per check of :func:`contract_checks` (ids:
+    ``str(check)``); give it a name starting with ``test`` in a test module::
+
+        test_contract = contract_test("fluid", KIND, registry=plugin_registry({...}))
+    """
+    return parametrized(contract_checks(family, kind, scene=scene, registry=registry))
+
+
+def parametrized(checks: list[Any]) -> Callable[[Any], None]:
+    """A pytest test that calls each of ``checks`` (callables; ids: their ``str``)."""
+    import pytest
+
+    @pytest.mark.parametrize("check", checks, ids=str)
+    def test(check: Any) -> None:
+        check()
+
+    return test
+
+
+def registry_fixture(conftest: str | Path, plugins: dict[str, str], name: str = "reg") -> Any:
+    """For a plugin's ``tests/conftest.py``: put the plugin's ``src/`` folder on ``sys.path``
+    (its tests run from the checkout, without installing it) and return a session-scoped
+    pytest fixture ``name`` giving :func:`plugin_registry` of ``plugins`` (``{name:
+    "module"}``, imported when the fixture is first used)::
+
+        reg = registry_fixture(__file__, {"gravity": "porenet_gravity.plugin"})
+    """
+    import pytest
+
+    src = str(Path(conftest).resolve().parents[1] / "src")
+    if src not in sys.path:
+        sys.path.insert(0, src)
+
+    @pytest.fixture(scope="session", name=name)
+    def registry() -> Registry:
+        return plugin_registry({k: importlib.import_module(m) for k, m in plugins.items()})
+
+    return registry
 
 
 def covered_kinds(registry: Registry) -> set[tuple[str, str]]:
@@ -488,7 +541,7 @@ class _Subject:
         code = (
             "import importlib, json, sys\n"
             f"for name in {modules!r}: importlib.import_module(name)\n"
-            f"print(json.dumps([m for m in {['numba', implementation]!r} if m in sys.modules]))\n"
+            f"print(json.dumps([m for m in {[*HEAVY, implementation]!r} if m in sys.modules]))\n"
         )
         path = os.pathsep.join(p for p in sys.path if isinstance(p, str) and p)
         env = {**os.environ, "PYTHONPATH": path}

@@ -13,6 +13,12 @@ A plugin's ``tests/test_tutorial.py`` uses these helpers to check that
   or kernel modules (:func:`porenet_imports`, :func:`private_imports`);
 * the plugin's README lists exactly what it imports from porenet (:func:`readme_imports`).
 
+:func:`plugin_checks` makes these checks for one plugin's section, each a named callable, and
+:func:`tutorial_test` the test that runs them, so that a plugin's tutorial test is one line::
+
+    test_tutorial = tutorial_test(__file__, "## Adding an observer",
+                                  ["config.py", "observer.py", "plugin.py"], "front.toml")
+
 Pure Python (``ast`` and ``re``): importing it imports nothing else of porenet.
 """
 
@@ -20,6 +26,8 @@ from __future__ import annotations
 
 import ast
 import re
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 #: A kind's kernel package, the only part of porenet's own kinds a plugin may import.
@@ -114,3 +122,87 @@ def readme_imports(
     for module, names in re.findall(r"^\| `(porenet[\w.]*)` \| (.+?) \|", table, re.M):
         listed[module] = set(re.findall(r"`(\w+)`", names))
     return listed
+
+
+@dataclass(frozen=True)
+class TutorialCheck:
+    """One check of a tutorial section: call it (AssertionError when the text and the source
+    part); ``str(check)`` is its test id."""
+
+    name: str
+    function: Callable[[], None]
+
+    def __str__(self) -> str:
+        return self.name
+
+    def __call__(self) -> None:
+        self.function()
+
+
+def plugin_checks(
+    plugin: str | Path,
+    heading: str,
+    modules: list[str] | tuple[str, ...],
+    example: str,
+    document: str | Path | None = None,
+) -> list[TutorialCheck]:
+    """The checks (module docstring) of the tutorial section ``heading`` of ``document``
+    (default ``docs/plugins.md``) on the plugin in the folder ``plugin``
+    (``plugins/<name>``, in the repository): the section has excerpts of each of ``modules``
+    (file names in the plugin's package under ``src/``), of ``pyproject.toml`` and of
+    ``examples/<example>``; each excerpt is verbatim; the files it names exist; the package
+    imports nothing private from porenet, and its README lists exactly what it imports."""
+    plugin = Path(plugin).resolve()
+    root = plugin.parents[1]
+    text = section(document or root / "docs" / "plugins.md", heading)
+    found = excerpts(text)
+    (source,) = [p for p in sorted((plugin / "src").iterdir()) if (p / "__init__.py").is_file()]
+    prefix = f"plugins/{plugin.name}/"
+    cited = [f"src/{source.name}/{m}" for m in modules] + ["pyproject.toml", f"examples/{example}"]
+
+    def cites_every_file() -> None:
+        paths = {path for path, _ in found}
+        missing = [prefix + c for c in cited if prefix + c not in paths]
+        assert not missing, f"{heading!r} has no excerpt of {', '.join(missing)}"
+
+    def verbatim(path: str, code: str) -> Callable[[], None]:
+        def check() -> None:
+            assert missing_pieces(root, path, code) == [], f"not verbatim in {path}"
+
+        return check
+
+    def named_files_exist() -> None:
+        missing = [p for p in named_paths(text, prefix) if not (root / p).exists()]
+        assert not missing, f"{heading!r} names files that do not exist: {missing}"
+
+    def imports_nothing_private() -> None:
+        assert private_imports(porenet_imports(source)) == []
+
+    def readme_lists_the_imports() -> None:
+        assert readme_imports(plugin / "README.md") == porenet_imports(source)
+
+    return [
+        TutorialCheck("cites-every-file", cites_every_file),
+        *(
+            TutorialCheck(f"excerpt-{k}:{path}", verbatim(path, code))
+            for k, (path, code) in enumerate(found)
+        ),
+        TutorialCheck("named-files-exist", named_files_exist),
+        TutorialCheck("imports-nothing-private", imports_nothing_private),
+        TutorialCheck("readme-lists-the-imports", readme_lists_the_imports),
+    ]
+
+
+def tutorial_test(
+    test_file: str | Path,
+    heading: str,
+    modules: list[str] | tuple[str, ...],
+    example: str,
+    document: str | Path | None = None,
+) -> Callable[[TutorialCheck], None]:
+    """A pytest test, one case per check of :func:`plugin_checks`, for the plugin whose
+    ``tests/`` folder holds ``test_file`` (give it ``__file__``); name it ``test_...``."""
+    from porenet.testing.contract import parametrized
+
+    plugin = Path(test_file).resolve().parents[1]
+    return parametrized(plugin_checks(plugin, heading, modules, example, document))

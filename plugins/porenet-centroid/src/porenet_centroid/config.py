@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
@@ -58,3 +58,10 @@ class CentroidClassifierConfig(ModelConfig):
         if len(value) < 2 or len(set(regimes)) != len(regimes):
             raise ValueError(f"need at least two centroids, one per regime; got {regimes}")
         return value
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene classified by this classifier, for porenet's contract suite
+        (docs/contract.md): the smallest lattice whose pattern it can measure."""
+        lattice = {"n": 20, "disorder": 0.3}
+        return {"lattice": lattice, "fluid": {}, "classifier": {"kind": "centroid.nearest"}}

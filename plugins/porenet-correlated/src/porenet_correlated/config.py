@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field, field_validator
 
@@ -44,3 +44,9 @@ class CorrelatedLatticeConfig(SquareLatticeConfig):
                 "and disorder; use kind 'square' to read apertures from a file"
             )
         return value
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene on this lattice, for porenet's contract suite (docs/contract.md)."""
+        lattice = {"kind": KIND, "n": 12, "disorder": 0.3, "correlation_length": 2.0}
+        return {"seed": 1, "lattice": lattice, "fluid": {}}

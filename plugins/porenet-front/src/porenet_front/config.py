@@ -7,7 +7,7 @@ porenet imports this module whenever it builds the scene schema (``porenet valid
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field
 
@@ -34,3 +34,9 @@ class FrontConfig(ModelConfig):
         "time the drained pores (inlets included) reach a multiple of ceil(every x n_pores), "
         "and one of the final state.",
     )
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene recording the front, for porenet's contract suite (docs/contract.md)."""
+        observers = [{"kind": KIND, "every": 0.05}]
+        return {"lattice": {"n": 12, "disorder": 0.3}, "fluid": {}, "observers": observers}

@@ -20,7 +20,7 @@ The SI gradient ``delta_rho g = Bo gamma / a^2`` (Pa/m) is reported in the run's
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import Field
 
@@ -85,3 +85,10 @@ class GravityInvasionConfig(ModelConfig):
     def sign(self) -> float:
         """+1 for a stabilising gravity field, -1 for a destabilising one."""
         return 1.0 if self.gravity == "stabilising" else -1.0
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene of this model, for porenet's contract suite (docs/contract.md)."""
+        fluid = {"kind": KIND, "bond_number": 0.02}
+        lattice = {"n": 12, "disorder": 0.3, "pore_size": 1e-4}
+        return {"seed": 1, "lattice": lattice, "injection": {"at": "left-edge"}, "fluid": fluid}

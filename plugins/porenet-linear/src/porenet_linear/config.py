@@ -7,7 +7,7 @@ and scipy with it, are imported only when a scene selects the kind.
 
 from __future__ import annotations
 
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
@@ -110,3 +110,10 @@ class LinearSpringsConfig(ModelConfig):
     def effects(self) -> dict[str, bool]:
         """The effects the Plan lists (``porenet plan``)."""
         return {"deformation": True, "contact_loss": True}
+
+    @classmethod
+    def example_scene(cls) -> dict[str, Any]:
+        """A small scene of invasion percolation in this solid, for porenet's contract suite
+        (docs/contract.md)."""
+        solid = {"kind": KIND, "fracturing_number": 1.0}
+        return {"seed": 1, "lattice": {"n": 12, "disorder": 0.3}, "fluid": {}, "solid": solid}
