@@ -1,27 +1,17 @@
-"""The centroid classifier through porenet's public API: registry, scene, run, CLI path."""
+"""The centroid classifier's verdicts on real runs (its contract: test_centroid_contract.py)."""
 
 from __future__ import annotations
 
-import porenet_centroid.plugin
 import pytest
 from porenet_centroid.classifier import CentroidClassifier
 from porenet_centroid.config import CentroidClassifierConfig
 
-import porenet.hooks
 from porenet.analysis.classify import classify_run
 from porenet.config.loading import load_scene
 from porenet.core.errors import ConfigError
 from porenet.simulation import Simulation
 
 KIND = "centroid.nearest"
-
-
-@pytest.fixture
-def reg(monkeypatch):
-    monkeypatch.setenv("PORENET_PLUGINS", "")  # an installed copy must not clash with ours
-    return porenet.hooks.build_registry(
-        strict=True, extra_plugins={"centroid": porenet_centroid.plugin}
-    )
 
 
 def scene(**extra):
@@ -32,11 +22,6 @@ def scene(**extra):
         "classifier": {"kind": KIND},
         **extra,
     }
-
-
-def test_registered_lazily_under_its_package(reg):
-    entry = reg.get("classifier", KIND)
-    assert entry.package == "centroid" and isinstance(entry.implementation, str)
 
 
 def test_a_run_is_labelled_by_the_plugin(reg):

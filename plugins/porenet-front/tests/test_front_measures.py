@@ -14,23 +14,12 @@ from __future__ import annotations
 from collections import deque
 
 import numpy as np
-import porenet_front.plugin
 import pytest
 from porenet_front.front import front_geometry, injection_distance, measure
 
-import porenet.hooks
 from porenet.simulation import Simulation
 
 N = 5
-
-
-@pytest.fixture(scope="module")
-def reg():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("PORENET_PLUGINS", "")  # an installed copy must not clash with ours
-        return porenet.hooks.build_registry(
-            strict=True, extra_plugins={"front": porenet_front.plugin}
-        )
 
 
 def lattice(reg, n: int = N, seed: int = 1):

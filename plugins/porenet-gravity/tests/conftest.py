@@ -1,10 +1,6 @@
-"""Make the plugin importable from its source tree, so its tests run without installing it."""
+"""Make the plugin importable from its source tree, so its tests run without installing it,
+and give them ``reg``: porenet's kinds and this plugin's, and no installed plugin."""
 
-from __future__ import annotations
+from porenet.testing.contract import registry_fixture
 
-import sys
-from pathlib import Path
-
-SRC = Path(__file__).resolve().parents[1] / "src"
-if str(SRC) not in sys.path:
-    sys.path.insert(0, str(SRC))
+reg = registry_fixture(__file__, {"gravity": "porenet_gravity.plugin"})

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import porenet_gravity.plugin
 import pytest
 from porenet_gravity.front import (
     front_history,
@@ -16,19 +15,13 @@ from porenet_gravity.front import (
     throat_heights,
 )
 
-import porenet.hooks
 from porenet.simulation import Simulation
 
 N = 5
 
 
 @pytest.fixture(scope="module")
-def lattice():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("PORENET_PLUGINS", "")
-        reg = porenet.hooks.build_registry(
-            strict=True, extra_plugins={"gravity": porenet_gravity.plugin}
-        )
+def lattice(reg):
     data = {
         "lattice": {"n": N, "disorder": 0.3},
         "injection": {"at": "left-edge"},
@@ -102,14 +95,11 @@ def test_history_and_steady_width(lattice):
     ("bond_number", "gravity", "trapping"),
     [(0.0, "stabilising", True), (0.02, "stabilising", True), (0.02, "destabilising", False)],
 )
-def test_one_pass_kernel_matches_the_flood_fill_of_every_snapshot(bond_number, gravity, trapping):
+def test_one_pass_kernel_matches_the_flood_fill_of_every_snapshot(
+    reg, bond_number, gravity, trapping
+):
     """front_history (the reverse-pass kernel front_moments) against front_pores, which
     flood-fills the defender afresh for each pattern, after every drained pore of a run."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("PORENET_PLUGINS", "")
-        reg = porenet.hooks.build_registry(
-            strict=True, extra_plugins={"gravity": porenet_gravity.plugin}
-        )
     data = {
         "seed": 4,
         "lattice": {"n": 24, "disorder": 0.3},

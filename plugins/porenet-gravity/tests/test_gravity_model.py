@@ -1,9 +1,8 @@
-"""The model against porenet's FluidModel contract, porenet's own invasion percolation and the
-slow literal reference (``porenet.testing.reference``)."""
+"""The model against its thresholds, porenet's own invasion percolation and the slow literal
+reference (``porenet.testing.reference``); porenet's FluidModel contract is
+test_gravity_contract.py's."""
 
 from __future__ import annotations
-
-import pickle
 
 import numpy as np
 import porenet_gravity.plugin
@@ -20,6 +19,8 @@ from porenet.testing.reference import reference_invasion
 from porenet.viz import make_figure
 
 
+# The registry as docs/plugins.md ("Adding a fluid model", Tests) shows it built by hand; the
+# plugin's other tests take the same one from conftest.py (porenet.testing.contract).
 @pytest.fixture(scope="module")
 def reg():
     with pytest.MonkeyPatch.context() as mp:
@@ -99,7 +100,10 @@ def test_same_order_as_the_literal_reference_on_the_shifted_thresholds(
         assert set(np.flatnonzero(result.data.trapped).tolist()) == trapped
 
 
-def test_state_and_record_follow_the_fluid_model_contract(reg):
+def test_state_and_record_follow_the_thresholds(reg):
+    """Beyond the FluidModel contract (test_gravity_contract.py): no pressure field and no
+    time, each step's pressure is the threshold of its throat, and breakthrough comes with
+    the first outlet pore."""
     sim, result = run(reg, scene(n=41, bond_number=0.03))
     state, lat, fluid = sim.state, sim.lattice, sim.fluid
     size = state.record.size
@@ -107,23 +111,11 @@ def test_state_and_record_follow_the_fluid_model_contract(reg):
     throat = state.record.throat[:size]
     pressure = state.record.pressure[:size]
     assert state.pressure is None and state.time == 0.0 and state.meniscus_length is None
-    assert size == state.n_drained == int(state.drained.sum()) == len(np.unique(order))
-    assert state.drained[order].all()
-    inlets = lat.inlet_pores("left-edge")
-    assert order[: len(inlets)].tolist() == inlets.tolist()
-    assert (throat[: len(inlets)] == -1).all() and (pressure[: len(inlets)] == 0).all()
-    rank = np.full(lat.n_pores, -1)
-    rank[order] = np.arange(size)
-    tp = lat.throat_pores
-    for k in range(len(inlets), size):  # entered through a throat from a pore drained before
-        a, b = tp[throat[k]]
-        other = b if a == order[k] else a
-        assert order[k] in (a, b) and 0 <= rank[other] < k
-    np.testing.assert_array_equal(pressure[len(inlets) :], fluid.thresholds[throat[len(inlets) :]])
+    inlets = len(lat.inlet_pores("left-edge"))
+    np.testing.assert_array_equal(pressure[inlets:], fluid.thresholds[throat[inlets:]])
     assert state.invading_pressure == pressure[-1]
     outlet = lat.outlet_mask("left-edge")
     assert state.breakthrough and outlet[order[-1]] and not outlet[order[:-1]].any()
-    assert not (state.trapped & state.drained).any()
     assert fluid.exhausted and fluid.advance(state, 10) == 0
     assert result.summary["stop_reason"] == "breakthrough"
 
@@ -143,13 +135,6 @@ def test_chunked_advance_replays_the_same_invasion(reg):
     np.testing.assert_array_equal(state.record.order[: state.record.size], result.data.order)
     np.testing.assert_array_equal(state.trapped, sim.state.trapped)
     assert state.invading_pressure == sim.state.invading_pressure
-
-
-def test_model_pickles_for_checkpoints(reg):
-    sim, _ = run(reg, scene(n=15))
-    again = pickle.loads(pickle.dumps(sim.fluid))
-    np.testing.assert_array_equal(again.order, sim.fluid.order)
-    assert again.cursor == sim.fluid.cursor
 
 
 def test_summary_reports_gravity_and_the_front_in_si(reg):
@@ -173,8 +158,6 @@ def test_run_file_plots_and_classifies(reg, tmp_path):
     data["classifier"] = {"kind": "rules"}
     run(reg, data, output=path)
     back = read_run(path)
-    assert back.scene["fluid"]["kind"] == KIND
-    assert back.scene["fluid"]["bond_number"] == 0.01
     assert back.summary["bond_number"] == 0.01 and back.summary["front_width"] > 0
     assert "regime" in back.summary
     for kind in ("pattern", "timeseries"):

@@ -35,12 +35,10 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import porenet_gravity.plugin
 import pytest
 from porenet_gravity.front import steady_front_width
 from scipy import stats
 
-import porenet.hooks
 from porenet.simulation import Simulation
 
 PLUGIN = Path(__file__).resolve().parents[1]
@@ -59,13 +57,8 @@ SYSTEMATIC = 0.015
 
 
 @pytest.fixture(scope="module")
-def widths() -> np.ndarray:
+def widths(reg) -> np.ndarray:
     """Front widths (units of a), shape (SEEDS, len(BOND_NUMBERS))."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("PORENET_PLUGINS", "")
-        reg = porenet.hooks.build_registry(
-            strict=True, extra_plugins={"gravity": porenet_gravity.plugin}
-        )
     out = np.empty((SEEDS, len(BOND_NUMBERS)))
     for seed in range(SEEDS):
         for j, bo in enumerate(BOND_NUMBERS):

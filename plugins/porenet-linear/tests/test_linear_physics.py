@@ -9,27 +9,16 @@ pushing its four corner particles at 45 degrees.
 from __future__ import annotations
 
 import numpy as np
-import porenet_linear.plugin
 import pytest
 from porenet_linear import springs as sp
 from porenet_linear.config import KIND
 
-import porenet.hooks
 from porenet.analysis.numbers import modulus_for
 from porenet.core.state import State
 from porenet.kinds.hertz.kernels.springs import aperture_change, hertz_stiffness
 from porenet.simulation import Simulation
 
 NF, DISORDER, PRESTRAIN = 0.5, 0.3, 0.05
-
-
-@pytest.fixture(scope="module")
-def reg():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("PORENET_PLUGINS", "")  # an installed copy must not clash with ours
-        return porenet.hooks.build_registry(
-            strict=True, extra_plugins={"linear": porenet_linear.plugin}
-        )
 
 
 def solid(reg, n: int, **fields):
