@@ -3,7 +3,6 @@ registers, and on toy kinds that each break one promise: the suite must fail for
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 import textwrap
@@ -214,7 +213,6 @@ def test_a_config_module_that_imports_its_model_is_caught(tmp_path, monkeypatch)
         "    register(HeavyConfig, 'heavy_toy.model:Heavy')\n"
     )
     monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(tmp_path), *sys.path]))
     import heavy_toy.plugin
 
     registry = plugin_registry({"heavy": heavy_toy.plugin})
