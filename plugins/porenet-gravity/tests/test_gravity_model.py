@@ -19,17 +19,6 @@ from porenet.testing.reference import reference_invasion
 from porenet.viz import make_figure
 
 
-# The registry as docs/plugins.md ("Adding a fluid model", Tests) shows it built by hand; the
-# plugin's other tests take the same one from conftest.py (porenet.testing.contract).
-@pytest.fixture(scope="module")
-def reg():
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("PORENET_PLUGINS", "")  # an installed copy must not clash with ours
-        return porenet.hooks.build_registry(
-            strict=True, extra_plugins={"gravity": porenet_gravity.plugin}
-        )
-
-
 def scene(n: int = 31, seed: int = 5, stop: str = "breakthrough", **fluid) -> dict:
     return {
         "seed": seed,
