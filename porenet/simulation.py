@@ -319,16 +319,20 @@ class Simulation:
         return out
 
     def __setstate__(self, values: dict[str, Any]) -> None:
-        from porenet.config.loading import load_scene
-        from porenet.hooks import get_registry
-
-        scene, output, progress = values.pop("_plan_inputs")
+        """Restore what a checkpoint pickled; :meth:`resume` then plans the scene again with
+        the registry it is given (:meth:`_replan`)."""
         self.__dict__.update(values)
-        self.registry = get_registry()
-        config = load_scene(scene, registry=self.registry)
-        self.plan = make_plan(config, self.registry, output=output, progress=progress)
         self.compile_notice = CompileNotice(enabled=self.report)
         self._clock = time.perf_counter()  # this process's clock; _wall_before holds the past
+
+    def _replan(self, registry: Registry) -> None:
+        """Validate and plan the pickled scene again with ``registry`` (after unpickling)."""
+        from porenet.config.loading import load_scene
+
+        scene, output, progress = self.__dict__.pop("_plan_inputs")
+        self.registry = registry
+        config = load_scene(scene, registry=registry)
+        self.plan = make_plan(config, registry, output=output, progress=progress)
 
     def checkpoint_header(self) -> dict[str, Any]:
         """The header fields of a checkpoint of this run (:mod:`porenet.io.checkpoint`)."""
@@ -353,10 +357,18 @@ class Simulation:
         }
 
     @classmethod
-    def resume(cls, path: Any, *, output: Any = None, progress: bool = False) -> Simulation:
+    def resume(
+        cls,
+        path: Any,
+        *,
+        output: Any = None,
+        progress: bool = False,
+        registry: Registry | None = None,
+    ) -> Simulation:
         """The simulation saved in the checkpoint at ``path``, ready for :meth:`run` to go on
         (``output``: write the run file there instead of where the run meant to;
-        ``progress``: show progress on stderr).
+        ``progress``: show progress on stderr; ``registry``: the kinds to plan the scene
+        with again, default the process's, which must hold every kind the scene uses).
 
         Raises
         ------
@@ -374,6 +386,11 @@ class Simulation:
             from porenet.io.checkpoint import CheckpointError
 
             raise CheckpointError(f"{path} holds no porenet simulation")
+        if registry is None:
+            from porenet.hooks import get_registry
+
+            registry = get_registry()
+        sim._replan(registry)
         sim.report = progress
         sim.compile_notice = CompileNotice(enabled=progress)
         kept: list[Observer] = []
