@@ -402,6 +402,15 @@ class SolidModel(ABC):
         (default 1: the tolerance is then a pressure, in ``gamma / a``)."""
         return 1.0
 
+    @property
+    def unresolved_deformation(self) -> float:
+        """Deformation, in units of ``a``, that the solid's settings let it leave unresolved
+        (a solver's stopping tolerance, a slip tolerance), so that its force balance holds
+        only to that deformation at its stiffness (``1 / compliance``); 0 (the default): solved
+        to round-off. The contract suite bounds the recorded ``balance_residual`` by it
+        (docs/contract.md)."""
+        return 0.0
+
     def snapshot(self, state: State) -> dict[str, np.ndarray]:
         """Copies of the solid fields now, scaled (the keys of :meth:`outputs`' ``"final"``
         plus ``apertures``), stored with the fluid's pressure snapshot taken at this moment."""

@@ -85,10 +85,11 @@ kind does not keep is skipped, with the reason):
   ``tests/verification/test_viscous_integrators.py``).
 * solid, ``force-balance`` (when the per-update series hold ``balance_residual``): the largest
   residual is within :data:`FORCE_ROUND_OFF` of ``gamma a`` (the Hertz solid's tests), plus,
-  for a solid that leaves force out of balance by design and says how much in config fields
-  named as in :data:`TOLERANCE_FIELDS` (units of ``a``), :data:`TOLERANCE_FACTOR` times that
-  deformation at the stiffness its :attr:`~porenet.core.interfaces.SolidModel.compliance`
-  implies (the frictional solid's tests).
+  for a solid that leaves force out of balance by design and says how much
+  (:attr:`~porenet.core.interfaces.SolidModel.unresolved_deformation`, units of ``a``),
+  :data:`TOLERANCE_FACTOR` times that deformation at the stiffness its
+  :attr:`~porenet.core.interfaces.SolidModel.compliance` implies (the frictional solid's
+  tests).
 * solid, ``final-apertures``: the final apertures are finite and positive.
 * lattice, ``lattice``: the lattice contract (docs/lattices.md): shapes and dtypes of the
   throats' pores and the pores' centres, throats join two distinct existing pores, positive
@@ -149,10 +150,8 @@ from porenet.core.triggers import Schedule
 VOLUME_BALANCE = 1e-10
 #: Bound on the largest force balance residual of an exact solid, in units of ``gamma a``.
 FORCE_ROUND_OFF = 1e-9
-#: Config fields in which a solid declares the deformation (units of ``a``) it leaves
-#: unresolved by design; the residual may reach :data:`TOLERANCE_FACTOR` times their sum at
-#: the solid's stiffness.
-TOLERANCE_FIELDS = ("solver_tolerance", "slip_tolerance")
+#: The residual may reach this many times the deformation a solid leaves unresolved by design
+#: (``SolidModel.unresolved_deformation``) at its stiffness.
 TOLERANCE_FACTOR = 10.0
 
 #: Modules a kind's config and plugin modules must not import (``light-import``).
@@ -703,8 +702,7 @@ class _Subject:
             raise NotApplicable("the solid records no balance_residual per update")
         sc = sim.scales
         force = sc.pressure * sc.area  # gamma a, N
-        declared = sum(float(getattr(sim.solid.config, name, 0.0) or 0.0)
-                       for name in TOLERANCE_FIELDS)  # fmt: skip
+        declared = float(getattr(sim.solid, "unresolved_deformation", 0.0))
         stiffness = sc.pressure * sc.length / sim.solid.compliance  # gamma / C, N/m
         bound = FORCE_ROUND_OFF * force + TOLERANCE_FACTOR * declared * sc.length * stiffness
         worst = float(np.max(residuals))

@@ -45,6 +45,13 @@ class HertzMindlinSolid(HertzSolid):
 
     config: HertzMindlinConfig
 
+    @property
+    def unresolved_deformation(self) -> float:
+        """The multigrid's stopping tolerance plus the slip tolerance (units of ``a``): what
+        the frictional solid leaves unresolved by design (docs/model.md, "Frictional solid
+        (kind hertz-mindlin)", "Solver")."""
+        return float(self.config.solver_tolerance) + float(self.config.slip_tolerance)
+
     def __init__(self, config: HertzMindlinConfig, lattice: Lattice, context: RunContext) -> None:
         self.stiffness_ratio = config.stiffness_ratio
         #: True when the contacts carry no tangential stiffness: the ``hertz`` solid exactly.
