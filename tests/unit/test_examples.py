@@ -1,4 +1,6 @@
-"""Every example scene in examples/scenes validates (plugin scenes when the plugin loads)."""
+"""Every example scene in examples/scenes validates (plugin scenes when the plugin loads), and the
+example scripts run; the fracture study's bookkeeping (its script's records, resumption and
+the tables of its page) is marked ``study``: ``pytest -m study`` runs it (docs/verification.md)."""
 
 from __future__ import annotations
 
@@ -84,6 +86,7 @@ def _script(name: str, *args: str) -> str:
     return out.stdout
 
 
+@pytest.mark.study
 def test_fracture_shear_script_runs_and_resumes(tmp_path):
     records, table = tmp_path / "runs.jsonl", tmp_path / "shear.md"
     args = ["--n", "16", "--ratio", "0.5", "--friction", "none", "--nf", "10", "--seeds", "1",
@@ -105,6 +108,7 @@ def test_fracture_shear_script_runs_and_resumes(tmp_path):
     assert re.fullmatch(r"porenet \S+|[0-9a-f]{7}(\+dirty)?( script [0-9a-f]{7})?", code), code
 
 
+@pytest.mark.study
 def test_fracture_shear_status_lists_the_missing_runs_and_prices_them(tmp_path):
     # a study at n = 400 spans sessions: --status says what the records hold and what is left
     point = {
@@ -137,6 +141,7 @@ def test_fracture_shear_status_lists_the_missing_runs_and_prices_them(tmp_path):
     assert records.read_text().count("\n") == 3  # nothing ran
 
 
+@pytest.mark.study
 def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settled_seeds(
     tmp_path,
 ):
@@ -186,6 +191,7 @@ def test_fracture_shear_status_prices_sliding_by_the_cost_model_and_skips_settle
     assert "| no sliding | 10 | 3 | 0.5, 0.8 | 1.011-1.050 | 798 | 789-790 |" in rows
 
 
+@pytest.mark.study
 def test_fracture_shear_sliding_cost_pairs_runs_and_fits_the_cost_model(tmp_path):
     # each run with sliding beside the same point and seed without it, against the cost
     # model's whole-run estimate of that ratio; c fitted to keep the worst pair closest
@@ -246,6 +252,7 @@ def test_fracture_shear_sliding_cost_pairs_runs_and_fits_the_cost_model(tmp_path
     assert records.read_text().count("\n") == len(lines)  # nothing ran
 
 
+@pytest.mark.study
 def test_sliding_cost_fits_each_points_median_not_its_worst_seed(tmp_path):
     # one point, three seeds costing 1.5x, 2x and 4x: the model sees the point, not the seed,
     # so c follows the median (1 + c x = 2), and the summary says how far the seeds stray
@@ -270,6 +277,7 @@ def test_sliding_cost_fits_each_points_median_not_its_worst_seed(tmp_path):
     assert "every pair within 2.00x" in summary  # the 4x seed against the model's 2x
 
 
+@pytest.mark.study
 @pytest.mark.parametrize(
     "flag", ["--table", "--out", "--patterns", "--by-nf", "--status", "--sliding-cost"]
 )
@@ -286,6 +294,7 @@ def test_fracture_shear_names_an_output_in_a_missing_folder(tmp_path, flag):
     assert f"{flag} " in out.stderr and "directory does not exist" in out.stderr
 
 
+@pytest.mark.study
 def test_fracture_shear_names_a_broken_record_and_runs_nothing(tmp_path):
     # a run killed while its record was written leaves half a line: the study must say where,
     # not append the next record to it or raise a traceback
@@ -302,6 +311,7 @@ def test_fracture_shear_names_a_broken_record_and_runs_nothing(tmp_path):
     assert not status.exists() and records.read_text().count("\n") == 1
 
 
+@pytest.mark.study
 def test_fracture_shear_keeps_run_files_and_draws_patterns_from_them(tmp_path):
     runs, figure = tmp_path / "runs", tmp_path / "patterns.png"
     args = ["--n", "12", "--ratio", "0.5", "--friction", "none", "--nf", "10", "--seeds", "1",
@@ -346,6 +356,7 @@ def _crashed_run(runs: Path, nf: float, point_nf: float) -> Path:
     return path
 
 
+@pytest.mark.study
 def test_fracture_shear_resumes_a_killed_run_from_its_checkpoint(tmp_path):
     # a run at n = 400 takes hours: a study process killed mid-run (a session's end) leaves
     # the run's checkpoint, and the restarted study finishes that run from it, with the
@@ -368,6 +379,7 @@ def test_fracture_shear_resumes_a_killed_run_from_its_checkpoint(tmp_path):
     assert resumed["cpu"] > 1000.0 > straight["cpu"]
 
 
+@pytest.mark.study
 def test_fracture_shear_resumes_past_a_damaged_cpu_record(tmp_path):
     # the CPU file beside a checkpoint is the script's own, written atomically; one damaged
     # by hand is named and the run still resumes, its record counting this process's CPU
@@ -390,6 +402,7 @@ def test_fracture_shear_resumes_past_a_damaged_cpu_record(tmp_path):
     assert "(0 s of CPU before)" in out.stdout and not cpu_file.exists()
 
 
+@pytest.mark.study
 def test_fracture_shear_refuses_a_checkpoint_of_another_scene(tmp_path):
     # a checkpoint at a point's place that holds another scene (here N_f = 3 where N_f = 10
     # belongs) is named and left alone, and nothing is recorded
@@ -409,6 +422,7 @@ def test_fracture_shear_refuses_a_checkpoint_of_another_scene(tmp_path):
     assert path.exists() and not records.exists()
 
 
+@pytest.mark.study
 def test_fracture_shear_checkpoints_need_run_files(tmp_path):
     import subprocess
     import sys
@@ -423,6 +437,7 @@ def test_fracture_shear_checkpoints_need_run_files(tmp_path):
         assert message in out.stderr
 
 
+@pytest.mark.study
 def test_fracture_shear_solver_tolerance_is_part_of_a_runs_identity(tmp_path):
     # the study's scene at another solver tolerance is another run: recorded beside the
     # default's, its run file named after it, and the table says which tolerance it used
@@ -442,6 +457,7 @@ def test_fracture_shear_solver_tolerance_is_part_of_a_runs_identity(tmp_path):
     assert len(records.read_text().splitlines()) == 2 and "D_f" in again
 
 
+@pytest.mark.study
 def test_crack_tip_opening_finds_the_straight_ahead_opening_of_an_elastic_medium():
     # docs/paper.md, "Frictional contacts": the chain opens only the throat ahead of the tip,
     # a shear-stiff medium opens the crack's line further ahead, more on a larger lattice
@@ -456,6 +472,7 @@ def test_crack_tip_opening_finds_the_straight_ahead_opening_of_an_elastic_medium
         assert 1 < rows[(label, 17)] < rows[(label, 25)]
 
 
+@pytest.mark.study
 def test_carried_imbalance_comes_from_the_tolerances():
     # docs/accuracy.md, "With sliding": solved tightly and every change of sliding mode solved
     # again, the force left out of balance is the solver's round-off; a slip tolerance of 1e-2 a
@@ -470,6 +487,7 @@ def test_carried_imbalance_comes_from_the_tolerances():
     assert rows[0]["drained"] == rows[1]["drained"]
 
 
+@pytest.mark.study
 def test_fit_sliding_constant_minimises_the_worst_factor():
     # two points that disagree: c = 1 fits the first exactly, c = 3 the second; the fit sits
     # where both are off by the same factor, and no c on a fine scan does better
@@ -485,6 +503,7 @@ def test_fit_sliding_constant_minimises_the_worst_factor():
         assert max(max(m / (1 + other * x), (1 + other * x) / m) for x, m in points) >= worst
 
 
+@pytest.mark.study
 def test_code_version_names_the_imported_package_and_a_script_elsewhere(tmp_path):
     # a study runs a worktree's script; the record must name the code of the porenet it
     # imported (an editable install can point at another checkout), and the script's commit
@@ -529,6 +548,7 @@ def _doc_script():
     return fracture_shear_doc
 
 
+@pytest.mark.study
 def test_fracture_shear_n400_page_tables_are_what_its_committed_records_give(capsys):
     # docs/fracture-shear-n400.md's marked tables, made again from docs/data/: a record
     # committed without its tables (or a change to the cost model that prices them) fails
@@ -537,6 +557,7 @@ def test_fracture_shear_n400_page_tables_are_what_its_committed_records_give(cap
     assert doc.main(["--check"]) == 0, capsys.readouterr().out
 
 
+@pytest.mark.study
 def test_fracture_shear_doc_names_a_stale_table_and_rewrites_only_the_tables(tmp_path, capsys):
     doc = _doc_script()
     records = tmp_path / "records"

@@ -8,7 +8,7 @@ square lattice). Canonical throat order: the x throats ``(k,i,j)-(k,i,j+1)``, th
 first pore. With ``nz = 1`` the lattice is 2-D (coordinates ``(x, y)``) and, with ``nx = ny =
 n``, the pores, throats, apertures and particles are the square lattice's
 (:mod:`porenet.kinds.square.model`), so every run gives the square lattice's result to the
-bit (``tests/unit/test_cubic_lattice.py``).
+bit (``porenet/kinds/cubic/tests/test_cubic_lattice.py``).
 
 Deformable solids need particles: only the 2-D square case (``nz = 1``, ``nx = ny``) has them
 (a throat between two cubic pores passes a face bounded by four contacts, so the paper's one

@@ -6,7 +6,7 @@ splits the grid by separator lines into rectangles down to :data:`LEAF` pores, a
 front eliminates its separator and passes its Schur complement on its border to its parent.
 The symbolic analysis (:func:`grid_cholesky_symbolic`, plain Python, once per lattice)
 returns the index arrays as a :class:`GridFronts`; :func:`grid_cholesky_factor` and
-:func:`grid_cholesky_solve` are numba kernels on it. ``tests/unit/kernels/viscous/
+:func:`grid_cholesky_solve` are numba kernels on it. ``porenet/kinds/viscous/tests/
 test_grid_cholesky.py`` checks them against scipy's sparse solver.
 """
 

@@ -51,7 +51,7 @@ F(y_{n+1}))`` (Sommeijer, Shampine & Verwer, J. Comput. Appl. Math. 88, 315, 199
 norm over the pore pressures and ``p_inv``, against ``tolerance`` times the entry-pressure
 spread; the next step from the RKC code's predictive controller (the error's growth over the
 last two steps), at most :data:`GROW` times longer. The stage count is ``m = 1 + floor(sqrt(1 +
-1.54 h rho))``, at least 3 (stable for the IMEX pair: ``tests/unit/kernels/viscous/test_rkc.py``).
+1.54 h rho))``, at least 3 (stable for the IMEX pair: ``porenet/kinds/viscous/tests/test_rkc.py``).
 
 Length (over the ~500 lines of docs/architecture.md's rule): ``rkc_advance`` is one compiled
 loop (steps, events, step control) with the helpers that keep its candidate list; the stages and

@@ -72,7 +72,7 @@ def interior_run(
     Call it only from a helper compiled without reference counting (``@njit(helper=True)``,
     as the sweeps' row functions are): its views carry no reference count of their own, and a
     caller with reference counting releases their parents' memory when it drops them
-    (``tests/unit/kernels/viscous/test_stencil.py``)."""
+    (``porenet/kinds/viscous/tests/test_stencil.py``)."""
     i = first // n
     count = stop - first
     vertical = n * (n - 1)
