@@ -1,0 +1,11 @@
+"""docs/plugins.md "Adding a lattice that is not a grid" and the README stay true to the
+source, with the checks every tutorial's plugin runs (:mod:`porenet.testing.tutorial`)."""
+
+from porenet.testing.tutorial import tutorial_test
+
+test_tutorial = tutorial_test(
+    __file__,
+    "## Adding a lattice that is not a grid",
+    ["config.py", "model.py", "plugin.py"],
+    "delaunay.toml",
+)
