@@ -48,8 +48,8 @@ class OneWayLinearConfig(LinearSpringsConfig):
     """porenet-linear's solid (``linear.springs``: linear contacts, every field the same)
     whose ``coupler`` may be ``oneway.pressure`` (the default) or ``pressure-aperture``."""
 
-    kind: Literal["oneway.linear"] = "oneway.linear"  # type: ignore[assignment]
-    coupler: Literal["oneway.pressure", "pressure-aperture"] = Field(  # type: ignore[assignment]
+    kind: Literal["oneway.linear"] = "oneway.linear"
+    coupler: Literal["oneway.pressure", "pressure-aperture"] = Field(
         "oneway.pressure",
         description="Coupler kind: 'oneway.pressure', the solid feels the fluid's pore "
         "pressures but the fluid's apertures never change; 'pressure-aperture', porenet's "
