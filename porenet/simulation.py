@@ -106,7 +106,7 @@ class Simulation:
             scene.injection,
             scene.stop,
             np.random.default_rng(model_seed),
-            deformable=plan.builds("solid"),
+            deformable=bool(plan.effects.get("aperture_feedback", False)),
         )
         fluid_cls = self.registry.get("fluid", scene.fluid.kind).load()
         self.fluid: FluidModel = fluid_cls(scene.fluid, self.lattice, self.context)
@@ -505,6 +505,8 @@ class Simulation:
         summary.update(self.fluid.summary(state))
         if self.solid is not None:
             summary.update(self.solid.summary(state))
+        if self.coupler is not None:
+            summary.update(self.coupler.summary(state))
         if self.threads is not None:
             summary.update(self.threads.summary())
         summary["compile_time_s"] = self.compile_notice.compiled_seconds

@@ -9,12 +9,20 @@ has no null), e.g. ``pressure_step = inf`` of the viscous model.
 
 from __future__ import annotations
 
+import difflib
 import functools
 import math
 import types
-from typing import Any, ClassVar, Union, get_args, get_origin
+from typing import Annotated, Any, ClassVar, Union, get_args, get_origin
 
-from pydantic import BaseModel, ConfigDict, field_validator, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 from pydantic_core import PydanticUndefined
 
 #: Largest magnitude of a float in a scene: far above any SI value of the problem (moduli
@@ -112,3 +120,23 @@ class ModelConfig(CheckedModel):
         if get_origin(annotation) is None or len(args) != 1 or not isinstance(args[0], str):
             raise TypeError(f"{cls.__name__}.kind must be annotated Literal['one-kind']")
         return args[0]
+
+
+def registered_coupler(value: str, info: ValidationInfo) -> str:
+    """``value`` if it names a coupler kind of the registry the scene is validated with
+    (:func:`porenet.config.loading.load_scene` passes the registered couplers in the
+    validation context); any name when validated without one (the Simulation then looks it
+    up)."""
+    known = (info.context or {}).get("couplers")
+    if known is not None and value not in known:
+        close = difflib.get_close_matches(value, list(known), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise ValueError(
+            f"unknown coupler kind {value!r}{hint}; registered: {', '.join(sorted(known))}"
+        )
+    return value
+
+
+#: The type of a solid config's ``coupler`` field: the kind of a registered coupler, built-in
+#: or from a plugin (docs/architecture.md, "What a kind answers").
+CouplerKind = Annotated[str, AfterValidator(registered_coupler)]

@@ -228,7 +228,8 @@ def load_scene(
         raise ConfigError(f"a scene is a TOML path, a dict or a SceneConfig, not {type(scene)!r}")
     data = apply_overrides(data, overrides)
     try:
-        validated = model.model_validate(data, context={"base_dir": base_dir})
+        context = {"base_dir": base_dir, "couplers": tuple(registry.kinds("coupler"))}
+        validated = model.model_validate(data, context=context)
     except ValidationError as exc:
         raise format_validation_error(exc, source, data, model, registry) from None
     _check_site(validated, source)

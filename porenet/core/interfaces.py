@@ -55,9 +55,11 @@ class RunContext:
     rng : numpy.random.Generator
         The run's generator, seeded from the scene's seed (the only source of randomness).
     deformable : bool
-        True when a solid model will change ``state.apertures`` during the run (the fluid
-        model must then not precompute anything from the initial apertures, and is told of
-        each change through :meth:`FluidModel.apertures_changed`).
+        True when a solid model will change ``state.apertures`` during the run (the plan's
+        effect ``aperture_feedback``: a solid coupled back; the fluid model must then not
+        precompute anything from the initial apertures, and is told of each change through
+        :meth:`FluidModel.apertures_changed`). False in a rigid medium and under one-way
+        coupling.
     """
 
     scales: Scales
@@ -447,6 +449,10 @@ class Coupler(ABC):
     def max_events(self) -> int | None:
         """Largest number of drainage events the fluid may take between exchanges."""
         return None
+
+    def summary(self, state: State) -> dict[str, Any]:
+        """Scalar results (SI) for the run file's ``/summary`` (default none)."""
+        return {}
 
     def max_steps(self) -> int | None:
         """Largest number of fluid time steps between exchanges (None: no limit)."""

@@ -34,6 +34,9 @@ solid      ``cost=`` (registration):               the plan's cost; none, as abo
            ``estimate(config, request, fluid)``
 solid      config ``builds_nothing`` (class attr)  no solid and no coupler are built (rigid)
 solid      config ``coupler`` (field)              the coupler kind the solid is exchanged by
+coupler    config ``feeds_back`` (class attr)      False: the coupler never changes the fluid's
+                                                   apertures (one-way coupling); the plan's
+                                                   ``aperture_feedback``; default True
 =========  ======================================  ================================================
 
 The models answer the rest through the interfaces of :mod:`porenet.core.interfaces` (what a
@@ -83,6 +86,13 @@ def builds_nothing(config: Any) -> bool:
     """True for a kind whose config says a run builds no object for it (the rigid solid, no
     classifier)."""
     return bool(getattr(config, "builds_nothing", False))
+
+
+def feeds_back(config: Any) -> bool:
+    """Whether a coupler kind changes the apertures the fluid sees (default True); False is
+    one-way coupling: the solid responds to the fluid's pressures, the fluid sees the rigid
+    medium, and fluid models may precompute from the initial apertures."""
+    return bool(getattr(config, "feeds_back", True))
 
 
 def example_scene(config_class: type) -> dict[str, Any] | None:

@@ -19,7 +19,7 @@ from porenet.analysis.numbers import (
 )
 from porenet.core.cost import CostEstimate, estimate_cost
 from porenet.core.extent import lattice_extent
-from porenet.core.kinds import builds_nothing
+from porenet.core.kinds import builds_nothing, feeds_back
 from porenet.core.kinds import effects as effects_of
 from porenet.core.registry import Registry
 from porenet.core.sites import site_geometry
@@ -50,7 +50,9 @@ class Plan:
         The validated scene.
     effects : dict of str to bool
         ``capillarity``, ``viscous_dissipation``, ``trapping``, ``deformation``,
-        ``contact_loss``: which physics the run simulates.
+        ``contact_loss``, ``aperture_feedback`` (the solid's deformation changes the
+        apertures the fluid sees: a coupler that feeds back), and any a kind adds: which
+        physics the run simulates.
     models : tuple of ModelPlan
         Lattice, fluid, solid, coupler and observers, built or skipped.
     output : Path or None
@@ -126,6 +128,7 @@ def make_plan(
         "trapping": False,
         "deformation": False,
         "contact_loss": False,
+        "aperture_feedback": False,
     }
     models: list[ModelPlan] = []
     lattice = registry.get("lattice", scene.lattice.kind)
@@ -140,6 +143,7 @@ def make_plan(
     models.append(ModelPlan("fluid", fluid.kind, fluid.package, True, reason))
     solid = registry.get("solid", scene.solid.kind)
     effects.update(effects_of(scene.solid))
+    effects["aperture_feedback"] = not builds_nothing(solid.config)
     if builds_nothing(solid.config):
         models.append(
             ModelPlan("solid", solid.kind, solid.package, False, "rigid: apertures never change")
@@ -150,9 +154,13 @@ def make_plan(
         coupler_kind = getattr(scene.solid, "coupler", None) or "-"
         package = "-"
         if ("coupler", coupler_kind) in registry:
-            package = registry.get("coupler", coupler_kind).package
+            coupler = registry.get("coupler", coupler_kind)
+            package = coupler.package
+            effects["aperture_feedback"] = feeds_back(coupler.config)
         schedule = getattr(scene.solid, "coupling", None)
         reason = "fluid-solid exchange" + (f" ({schedule})" if schedule else "")
+        if not effects["aperture_feedback"]:
+            reason += "; apertures never change: the fluid sees the rigid medium"
         models.append(ModelPlan("coupler", coupler_kind, package, True, reason))
     models.append(_classifier_plan(scene, registry))
     for obs in scene.observers:
@@ -278,7 +286,8 @@ PLAN_KEYS = (
 def plan_summary(plan: Plan) -> dict[str, Any]:
     """What the plan predicted, for the run's ``/summary`` (docs/run-file.md): Ca*, N_f, the
     regime and its confidence (the regime ``""`` and the others None, not written, where the
-    scene determines none), and whether a solid model deformed the medium. Stored with the
+    scene determines none), and whether the apertures the fluid sees can change (a solid model
+    coupled back, effect ``aperture_feedback``). Stored with the
     run, so that classifying its run file needs nothing but the file (the analysis reads them:
     :func:`porenet.analysis.prediction.planned_verdict`, :func:`scene_is_deformable`)."""
     regime = plan.regime
@@ -287,16 +296,16 @@ def plan_summary(plan: Plan) -> dict[str, Any]:
         "plan_fracturing_number": plan.numbers.get(FRACTURING_NUMBER),
         "plan_regime": "" if regime is None else regime[0],
         "plan_regime_confidence": None if regime is None else float(regime[1]),
-        "plan_deformable": plan.builds("solid"),
+        "plan_deformable": bool(plan.effects.get("aperture_feedback", False)),
     }
 
 
 def scene_is_deformable(scene: dict[str, Any], summary: dict[str, Any] | None = None) -> bool:
-    """Whether a run's medium could deform (and so fracture), from its run file: the plan's
-    record ``plan_deformable`` in ``/summary``, or, for a run file written before porenet
-    stored it (or a scene without a summary), whether its solid kind builds a model (a kind
-    that builds nothing, the rigid medium, cannot). A solid kind this process does not know
-    (its plugin is not installed) counts as deformable."""
+    """Whether the apertures a run's fluid saw could change (and so the pattern fracture), from
+    its run file: the plan's record ``plan_deformable`` in ``/summary``, or, for a run file
+    written before porenet stored it (or a scene without a summary), whether its solid kind
+    builds a model (a kind that builds nothing, the rigid medium, cannot). A solid kind this
+    process does not know (its plugin is not installed) counts as deformable."""
     if summary and "plan_deformable" in summary:
         return bool(summary["plan_deformable"])
     from porenet.hooks import get_registry

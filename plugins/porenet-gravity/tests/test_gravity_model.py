@@ -5,13 +5,11 @@ test_gravity_contract.py's."""
 from __future__ import annotations
 
 import numpy as np
-import porenet_gravity.plugin
 import pytest
 from porenet_gravity.config import KIND
 from porenet_gravity.front import front_statistics
 from porenet_gravity.model import GravityInvasionPercolation
 
-import porenet.hooks
 from porenet.core.state import State
 from porenet.io.runfile import read_run
 from porenet.simulation import Simulation

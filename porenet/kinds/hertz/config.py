@@ -11,7 +11,7 @@ from typing import Any, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
-from porenet.config.base import ModelConfig
+from porenet.config.base import CouplerKind, ModelConfig
 
 
 class HertzConfig(ModelConfig):
@@ -98,9 +98,10 @@ class HertzConfig(ModelConfig):
         description="Most solves per update while contacts open and close (-); an update that "
         "still changes after them is counted in the summary as unsettled.",
     )
-    coupler: Literal["pressure-aperture"] = Field(
+    coupler: CouplerKind = Field(
         "pressure-aperture",
-        description="Coupler kind that passes pore pressures to the solid and apertures back.",
+        description="Coupler kind that passes pore pressures to the solid and apertures back: "
+        "'pressure-aperture' (porenet's), or a plugin's.",
     )
     coupling: Literal["every-step", "interval", "adaptive"] = Field(
         "adaptive",

@@ -12,7 +12,8 @@ dependency of porenet: run it in a separate environment that has them).
   0.6, voxel 2 µm, seed 1): ``throat.inscribed_diameter`` (float32), ``throat.total_length``,
   ``pore.volume``, ``pore.region_volume`` and the one label ``pore.all``.
 
-``porenet/kinds/network/tests/test_network_lattice.py`` reads both (written with OpenPNM 3.6.4, PoreSpy 3.2.0).
+``porenet/kinds/network/tests/test_network_lattice.py`` reads both (written with OpenPNM 3.6.4,
+PoreSpy 3.2.0).
 """
 
 from pathlib import Path

@@ -11,7 +11,7 @@ from typing import Any, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
-from porenet.config.base import ModelConfig
+from porenet.config.base import CouplerKind, ModelConfig
 
 #: The kind a scene selects: ``[solid] kind = "linear.springs"``.
 KIND = "linear.springs"
@@ -75,10 +75,10 @@ class LinearSpringsConfig(ModelConfig):
         description="Most solves per update while contacts open and close (-); an update "
         "whose contacts still change after them is counted in the summary as unsettled.",
     )
-    coupler: Literal["pressure-aperture"] = Field(
+    coupler: CouplerKind = Field(
         "pressure-aperture",
         description="Coupler kind that passes pore pressures to the solid and apertures back "
-        "(porenet's built-in one, named, not imported).",
+        "(porenet's built-in 'pressure-aperture', named, not imported, or a plugin's).",
     )
     coupling: Literal["every-step", "interval", "adaptive"] = Field(
         "adaptive",

@@ -2,10 +2,10 @@
 
 The plugin registers the coupler kind ``oneway.pressure`` (:mod:`.model`): the solid is
 loaded by the fluid's pore pressures on its own schedule, but the apertures the fluid sees
-never change. With it, the solid kind ``oneway.linear``, porenet-linear's solid with a config
-whose ``coupler`` field accepts this coupler (:mod:`.config`). Entry point ``oneway =
-"porenet_oneway.plugin"``. Importing this package imports nothing heavy; porenet imports the
-coupler and the solid only when a scene selects them.
+never change (:mod:`.config`: ``feeds_back = False``). A scene selects it in its solid's
+section, ``coupler = "oneway.pressure"``. Entry point ``oneway = "porenet_oneway.plugin"``.
+Importing this package imports nothing heavy; porenet imports the coupler only when a scene
+selects it.
 """
 
 from __future__ import annotations
