@@ -108,12 +108,11 @@ def opened_fraction(data: RunData) -> float:
 
     Spring ``t`` crosses throat ``t`` (docs/model.md section 5), so a removed spring is a throat
     the solid opened: invasion through opened throats is fracturing, whatever the fractures'
-    shape. ``nan`` for runs without mechanics (rigid media), whose fluid saw apertures that
-    never changed (one-way coupling), or without entered pores.
+    shape. ``nan`` for runs without mechanics (rigid media), whose plan recorded that the
+    apertures the fluid saw never change (``plan_deformable`` false: one-way coupling), or
+    without entered pores.
     """
-    from porenet.core.plan import scene_is_deformable
-
-    if not scene_is_deformable(getattr(data, "scene", None) or {}, data.summary):
+    if (data.summary or {}).get("plan_deformable") is False:
         return math.nan  # the fluid saw the rigid medium's apertures (one-way coupling)
     mechanics = data.mechanics_final or {}
     removed = mechanics.get("removed_springs")

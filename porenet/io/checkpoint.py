@@ -125,14 +125,19 @@ def scene_digest(scene: dict[str, Any]) -> str:
 
 
 def code_fingerprint() -> str:
-    """SHA-256 over every ``.py`` file of the porenet package (relative path and bytes, in
-    path order): a checkpoint resumes only under the code that wrote it."""
+    """SHA-256 over every ``.py`` file of the porenet package that a run can execute (relative
+    path and bytes, in path order; the kinds' ``tests`` folders, which a source checkout holds
+    and an installed package does not, are left out): a checkpoint resumes only under the code
+    that wrote it."""
     import porenet
 
     root = Path(porenet.__file__).resolve().parent
     digest = hashlib.sha256()
     for path in sorted(root.rglob("*.py")):
-        digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
+        relative = path.relative_to(root)
+        if "tests" in relative.parts:
+            continue
+        digest.update(str(relative).encode() + b"\0" + path.read_bytes() + b"\0")
     return digest.hexdigest()
 
 

@@ -103,10 +103,17 @@ def test_opened_fraction_counts_pores_entered_through_removed_springs():
     entered = data.throat[data.throat >= 0]
     removed = np.zeros(len(data.throat_pores), dtype=bool)
     removed[entered[::2]] = True  # every other entered pore came through an opened throat
-    opened = dataclasses.replace(data, mechanics_final={"removed_springs": removed})
+    # as a deformable run records it: the solid's removed springs, apertures that could change
+    deformable = data.summary | {"plan_deformable": True}
+    opened = dataclasses.replace(
+        data, mechanics_final={"removed_springs": removed}, summary=deformable
+    )
     assert opened_fraction(opened) == pytest.approx(len(entered[::2]) / len(entered))
-    none = dataclasses.replace(data, mechanics_final={"removed_springs": removed & False})
+    none = dataclasses.replace(opened, mechanics_final={"removed_springs": removed & False})
     assert opened_fraction(none) == 0.0
+    # coupled one way, the fluid never went through what the solid opened
+    one_way = dataclasses.replace(opened, summary=data.summary | {"plan_deformable": False})
+    assert np.isnan(opened_fraction(one_way))
 
 
 @pytest.mark.parametrize(("n_f", "label"), [(3.0, "FR"), (0.01, None)])
