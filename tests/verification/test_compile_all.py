@@ -20,6 +20,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 
 CHECK = r"""
@@ -55,6 +57,7 @@ print(json.dumps(counts))
 """
 
 
+@pytest.mark.long
 def test_after_porenet_compile_no_run_compiles(tmp_path):
     # numba's default compilation, no link-only twins (the module's docstring)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PORENET_LINK_ONLY="0")
