@@ -24,7 +24,6 @@ from pathlib import Path
 
 import h5py
 import numpy as np
-import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -237,27 +236,27 @@ def non_finite(path: Path) -> list[str]:
     return found
 
 
-@pytest.fixture(scope="module", autouse=True)
-def _kernels_compiled() -> None:
-    """Compile every kernel before the examples (``porenet compile``). On a fresh machine a
-    run's first tens of seconds are numba compiling, so the examples' interrupt after
-    ``RUN_LIMIT`` seconds would land inside the compiler, not in the run it means to stop: an
-    interrupt there can leave numba's half-built function behind, and the next call fails
-    with numba's "no compiled object yet" (found by CI on a clean checkout, 2026-12-03;
-    docs/roadmap.md). ``porenet`` itself reports an error that follows a real Ctrl-C as the
-    interruption, but these examples are interrupted in-process by a timer, and the
-    half-built function would stay in this process: not what this property probes."""
-    status, err = _cli(["compile", "--jobs", "2"])
-    assert status == 0, err
-
-
 @contextlib.contextmanager
 def _stop_after(seconds: int) -> Iterator[Callable[[], bool]]:
     """Interrupt the block (KeyboardInterrupt, as Ctrl-C, which ``porenet`` turns into exit
-    130) after ``seconds`` of wall time; yields whether it did."""
+    130) after ``seconds`` of wall time; yields whether it did.
+
+    The interrupt waits for a numba compilation in progress to end (one more second at a
+    time): on a fresh machine a run's first tens of seconds are numba compiling, and an
+    interrupt inside the compiler can leave numba's half-built function behind, so that the
+    next call in this process fails with numba's "no compiled object yet" (found by CI on a
+    clean checkout). ``porenet`` itself reports an error that follows a real Ctrl-C as the
+    interruption, but these examples are interrupted in-process by a timer, and the
+    half-built function would stay in this process: not what this property probes."""
+    from porenet.jit.compilation import watch
+
+    compiler = watch()
     fired = []
 
     def interrupt(signum: int, frame: object) -> None:
+        if compiler.compiling:
+            signal.alarm(1)
+            return
         fired.append(signum)
         raise KeyboardInterrupt
 

@@ -1,8 +1,11 @@
 """The small twins of the paper's sweeps (examples/sweeps/*-small.toml), run as a user would,
 and checked against the paper's phase diagrams where the regime is not in doubt.
 
-Each twin takes ~0.5-2 minutes on 2 cores (docs/reproduction.md). The checks are the deep
-regimes only: labels near the theoretical lines vary with the seed (docs/classification.md).
+Each twin takes ~0.5-2 minutes on 2 cores (docs/reproduction.md), so they form the ``paper``
+tier, outside the default run (``pytest -m paper``; docs/verification.md); the default run
+checks the same labels at one deep point each (tests/verification/test_regimes.py). The
+checks are the deep regimes only: labels near the theoretical lines vary with the seed
+(docs/classification.md).
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ def labels_by(rows: list[dict[str, str]], *keys: str) -> dict[tuple[float, ...],
     return out
 
 
-@pytest.mark.slow
+@pytest.mark.paper
 def test_fig5_small_fracturing_sets_in_near_nf_1(tmp_path):
     """Ca* = 10: FR at N_f = 3 and 10, no fracturing label at N_f <= 0.1 (paper's Fig. 5)."""
     labels = labels_by(run_twin("fig5-small", tmp_path), "solid.fracturing_number")
@@ -48,7 +51,7 @@ def test_fig5_small_fracturing_sets_in_near_nf_1(tmp_path):
             assert not any(r.startswith("FR") for r in regimes), (nf, regimes)
 
 
-@pytest.mark.slow
+@pytest.mark.paper
 def test_fig4_small_goes_from_viscous_to_capillary_fingering(tmp_path):
     """λ = 0.1, Ca from 3e-2 (Ca* ~ 30) down to 1e-4 (Ca* ~ 0.1): VF at the top, CF at the
     bottom (paper's Fig. 4)."""
@@ -58,7 +61,7 @@ def test_fig4_small_goes_from_viscous_to_capillary_fingering(tmp_path):
     assert "CF" in bottom and "VF" not in bottom, bottom
 
 
-@pytest.mark.slow
+@pytest.mark.paper
 def test_fig2_small_viscous_at_high_ca_capillary_at_low_ca_and_low_disorder(tmp_path):
     """n = 100: VF everywhere at Ca = 0.1; CF at Ca = 3e-4 for λ <= 0.5 (paper's Fig. 2).
     (At λ >= 0.7 porenet's boundary departs from the theory: docs/reproduction.md.)"""
