@@ -10,7 +10,9 @@ neither compiles while timed). The time of a run is its ``Simulation.run`` wall 
 the time it spent compiling (0 with a warm cache); a case shorter than 2 s is run five more
 times in the same process (the first run of a process loads the kernels from the cache,
 ~0.7 s) and the median of those is its time. It prints the medians, the ratio
-current / baseline and the spread, and checks that both trees drained the same pores in the
+current / baseline, the median and quartiles of the ratios of each pair of runs made one
+after the other (less sensitive to a machine whose speed drifts during the benchmark) and
+the spread, and checks that both trees drained the same pores in the
 same order. For refactorings that must not change speed (issue 21: within 3 %). Not a test.
 """
 
@@ -99,8 +101,9 @@ def main() -> None:
         f"{os.cpu_count()} CPUs, load {os.getloadavg()[0]:.2f}; baseline {args.baseline}, "
         f"current {rev} (+ working tree), {args.threads} thread(s), {args.repeat} runs each"
     )
-    print("| case | baseline (s) | current (s) | current / baseline | spread | same order |")
-    print("|---|---|---|---|---|---|")
+    print("| case | baseline (s) | current (s) | current / baseline | paired ratio | spread "
+          "| same order |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|")
     try:
         for name in args.only:
             case = CASES[name]
@@ -115,9 +118,13 @@ def main() -> None:
             spread = max(
                 (max(v) - min(v)) / statistics.median(v) for v in times.values() if min(v) > 0
             )
+            runs = zip(times["baseline"], times["current"], strict=True)
+            pairs = sorted(cur / bas for bas, cur in runs)
+            low, high = pairs[(len(pairs) - 1) // 4], pairs[-1 - (len(pairs) - 1) // 4]
             same = first["baseline"]["order_hash"] == first["current"]["order_hash"]
-            print(f"| {name} | {b:.3f} | {c:.3f} | {c / b:.3f} | ±{50 * spread:.0f} % | "
-                  f"{'yes' if same else 'NO'} |", flush=True)  # fmt: skip
+            print(f"| {name} | {b:.3f} | {c:.3f} | {c / b:.3f} | "
+                  f"{statistics.median(pairs):.3f} ({low:.3f}-{high:.3f}) | "
+                  f"±{50 * spread:.0f} % | {'yes' if same else 'NO'} |", flush=True)  # fmt: skip
     finally:
         subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)],
                        check=False, capture_output=True)  # fmt: skip
