@@ -5,7 +5,8 @@ pattern's fractal dimension, over sizes and seeds.
 
 Centre injection, outlet on the six faces, apertures uniform with λ = 0.5, with and without
 trapping. For each size it prints the ensemble mean drained fraction at breakthrough
-(geometric mean over seeds, the cost model's ``IP_3D``, docs/cost.md) and fits
+(geometric mean over seeds, the cost model's ``IP_3D``, docs/cost.md), how many runs had
+defender trapped at breakthrough and how much (with trapping), and fits
 
 * ``fraction = a n^-b`` over the sizes (the cost model's law in 3-D);
 * the finite-size estimate of the fractal dimension, ``M ~ n^D`` with ``M`` the drained pores
@@ -26,8 +27,9 @@ import numpy as np
 from porenet.simulation import Simulation
 
 
-def breakthrough(n: int, seed: int, trapping: bool) -> np.ndarray:
-    """The drained pores' coordinates (lattice spacings) in order of drainage."""
+def breakthrough(n: int, seed: int, trapping: bool) -> tuple[np.ndarray, int]:
+    """The drained pores' coordinates (lattice spacings) in order of drainage, and the number
+    of defender pores trapped at breakthrough."""
     scene = {
         "seed": seed,
         "lattice": {"kind": "cubic", "shape": [n, n, n], "disorder": 0.5},
@@ -35,7 +37,8 @@ def breakthrough(n: int, seed: int, trapping: bool) -> np.ndarray:
         "classifier": {"kind": "none"},
     }
     data = Simulation.from_scene(scene).run().data
-    return data.pore_coords[data.order] / (2.0 * data.pore_size)
+    trapped = 0 if data.trapped is None else int(np.count_nonzero(data.trapped))
+    return data.pore_coords[data.order] / (2.0 * data.pore_size), trapped
 
 
 def weighted_line(x: np.ndarray, y: np.ndarray, err: np.ndarray) -> tuple[float, float, float]:
@@ -54,20 +57,24 @@ def main() -> None:
     parser.add_argument("--trapping", choices=["both", "yes", "no"], default="both")
     args = parser.parse_args()
     sizes = np.array(args.sizes, dtype=float)
-    print("| trapping | n | mean drained fraction | log-mass spread | seconds |")
-    print("|---|---|---|---|---|")
+    print("| trapping | n | mean drained fraction | log-mass spread | runs with trapped defender "
+          "| mean trapped pores | seconds |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|")
     modes = {"both": (True, False), "yes": (True,), "no": (False,)}[args.trapping]
     for trapping in modes:
         log_mass, log_err, last = [], [], []
         for n in args.sizes:
             t0 = time.perf_counter()
-            runs = [breakthrough(n, s, trapping) for s in range(args.seeds)]
+            outcomes = [breakthrough(n, s, trapping) for s in range(args.seeds)]
+            runs = [coords for coords, _ in outcomes]
+            trapped = np.array([count for _, count in outcomes])
             masses = np.log([len(r) for r in runs])
             log_mass.append(masses.mean())
             log_err.append(masses.std(ddof=1) / np.sqrt(args.seeds))
             last = runs
             print(f"| {trapping} | {n} | {np.exp(masses.mean()) / n**3:.4f} | "
-                  f"{masses.std(ddof=1):.2f} | {time.perf_counter() - t0:.1f} |")  # fmt: skip
+                  f"{masses.std(ddof=1):.2f} | {np.count_nonzero(trapped)} / {args.seeds} | "
+                  f"{trapped.mean():.1f} | {time.perf_counter() - t0:.1f} |")  # fmt: skip
         y, e = np.array(log_mass), np.array(log_err)
         d, c, d_err = weighted_line(np.log(sizes), y, e)
         b, _, _ = weighted_line(np.log(sizes), y - 3 * np.log(sizes), e)
