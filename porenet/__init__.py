@@ -5,6 +5,7 @@ Implements Holtzman & Juanes, Phys. Rev. E 82, 046305 (2010). The public API is 
     import porenet
     result = porenet.run("scene.toml", output="run.h5")
     data = porenet.read_run("run.h5")
+    porenet.register(MyLatticeConfig, MyLattice)   # a kind defined in a script or notebook
 
 Importing porenet loads no plugin, numba, h5py or matplotlib; they load on first use.
 """
@@ -17,15 +18,26 @@ from porenet._version import __version__
 
 if TYPE_CHECKING:  # pragma: no cover
     from porenet.config.loading import load_scene
+    from porenet.hooks import register
     from porenet.io.runfile import read_run
     from porenet.result import RunData, RunResult
     from porenet.simulation import Simulation, run
 
-__all__ = ["RunData", "RunResult", "Simulation", "__version__", "load_scene", "read_run", "run"]
+__all__ = [
+    "RunData",
+    "RunResult",
+    "Simulation",
+    "__version__",
+    "load_scene",
+    "read_run",
+    "register",
+    "run",
+]
 
 _LAZY = {
     "load_scene": "porenet.config.loading",
     "read_run": "porenet.io.runfile",
+    "register": "porenet.hooks",
     "RunData": "porenet.result",
     "RunResult": "porenet.result",
     "Simulation": "porenet.simulation",

@@ -50,7 +50,7 @@ from typing import Any, Protocol
 import pluggy
 
 from porenet.core.errors import PluginError
-from porenet.core.registry import BUILTIN_PACKAGE, Registry
+from porenet.core.registry import BUILTIN_PACKAGE, FAMILIES, Entry, Registry
 
 log = logging.getLogger(__name__)
 
@@ -265,3 +265,107 @@ def get_registry() -> Registry:
     if _REGISTRY is None:
         _REGISTRY = build_registry()
     return _REGISTRY
+
+
+#: The plugin name of the kinds registered from a script or notebook (:func:`register`).
+SCRIPT_PLUGIN = "porenet.register"
+
+#: The interface each family's implementation subclasses (for :func:`register`'s inference).
+_INTERFACES = {
+    "lattice": "Lattice",
+    "fluid": "FluidModel",
+    "solid": "SolidModel",
+    "coupler": "Coupler",
+    "observer": "Observer",
+    "classifier": "Classifier",
+}
+
+
+def register(
+    config: type,
+    implementation: type | str | None = None,
+    *,
+    family: str | None = None,
+    cost: Callable[..., Any] | str | None = None,
+    warm_ups: tuple[Any, ...] | str | None = None,
+    registry: Registry | None = None,
+) -> Entry:
+    """Register a kind defined in a script or a notebook, with no package or entry point.
+
+    ::
+
+        import porenet
+        from porenet.kinds.square.config import SquareLatticeConfig
+        from porenet.kinds.square.model import SquareLattice
+
+        class WideConfig(SquareLatticeConfig):
+            kind: Literal["mine.wide"] = "mine.wide"
+
+        class Wide(SquareLattice):
+            def draw_apertures(self, rng):
+                return 2.0 * super().draw_apertures(rng)
+
+        porenet.register(WideConfig, Wide)
+        porenet.run({"lattice": {"kind": "mine.wide", "n": 50}, "fluid": {}})
+
+    The kind joins the process's registry (the one :func:`porenet.run`, ``load_scene`` and
+    :class:`~porenet.simulation.Simulation` use by default) under the same rules as a
+    plugin's (docs/plugins.md): a namespaced ``kind`` (``"mine.wide"``), a
+    :class:`~porenet.config.base.ModelConfig` with a single-literal ``kind``, never a
+    family's default. Registering the same kind again with this function (running a
+    notebook cell twice) replaces it; a kind a plugin or porenet registered is never
+    replaced (the error names the package that holds the name). Check the kind with the
+    contract suite: ``check_kind(family, kind)`` (:mod:`porenet.testing.contract`,
+    docs/contract.md).
+
+    The kind lives in this process only: a sweep's worker processes and a ``porenet resume``
+    in another process do not know it; for those, package it as a plugin (docs/plugins.md).
+
+    Parameters
+    ----------
+    config : type
+        The kind's pydantic config class.
+    implementation : type, str or None
+        Its class (a subclass of the family's interface in :mod:`porenet.core.interfaces`), a
+        lazy ``"module:Class"``, or None for a kind that builds nothing.
+    family : str, optional
+        ``lattice``, ``fluid``, ``solid``, ``coupler``, ``observer`` or ``classifier``.
+        Default: the family whose interface ``implementation`` subclasses.
+    cost, warm_ups : optional
+        The kind's cost estimate and compile warm-ups, as for a plugin (docs/cost.md,
+        docs/architecture.md "What a kind answers").
+    registry : Registry, optional
+        Where to register; default the process's (:func:`get_registry`).
+
+    Returns
+    -------
+    Entry
+        The registered entry.
+
+    Raises
+    ------
+    PluginError
+        The family cannot be told or is unknown, or the registry's rules refuse the kind
+        (the message says which rule).
+    """
+    registry = registry or get_registry()
+    if family is None:
+        family = _family_of(implementation)
+    package = getattr(config, "__module__", None) or SCRIPT_PLUGIN
+    return registry.add(family, config, implementation, package=package, plugin=SCRIPT_PLUGIN,
+                        cost=cost, warm_ups=warm_ups, replace=True)  # fmt: skip
+
+
+def _family_of(implementation: Any) -> str:
+    """The family whose interface ``implementation`` subclasses (:func:`register`)."""
+    from porenet.core import interfaces
+
+    if isinstance(implementation, type):
+        for family, name in _INTERFACES.items():
+            if issubclass(implementation, getattr(interfaces, name)):
+                return family
+    raise PluginError(
+        f"porenet.register: cannot tell the family of {implementation!r}: give family= (one "
+        f"of {', '.join(FAMILIES)}), or an implementation that subclasses "
+        f"{', '.join(_INTERFACES.values())} (porenet.core.interfaces)"
+    )

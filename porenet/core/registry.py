@@ -99,11 +99,14 @@ class Registry:
         default: bool = False,
         cost: Callable[..., Any] | str | None = None,
         warm_ups: tuple[Any, ...] | str | None = None,
+        replace: bool = False,
     ) -> Entry:
         """Register ``config``/``implementation`` under the config's ``kind``, with the
         kind's optional ``cost`` estimate and compile ``warm_ups`` (each an object or a lazy
         ``"module:name"``); ``default`` makes it the family's default kind (only porenet's own
-        kinds may be: what a scene means must not depend on the plugins installed).
+        kinds may be: what a scene means must not depend on the plugins installed);
+        ``replace`` lets a kind the same ``plugin`` registered before be registered again
+        (:func:`porenet.hooks.register`, a notebook cell run twice).
 
         Raises
         ------
@@ -126,7 +129,7 @@ class Registry:
         except TypeError as exc:
             raise PluginError(f"plugin {plugin!r}: {exc}") from exc
         existing = self._entries[family].get(kind)
-        if existing is not None:
+        if existing is not None and not (replace and existing.plugin == plugin):
             raise PluginError(
                 f"{family} kind {kind!r} is registered twice: by package {existing.package!r} "
                 f"(plugin {existing.plugin!r}) and by package {package!r} (plugin {plugin!r})"
