@@ -168,6 +168,54 @@ class RunData:
         """(N,) int64: step at which each pore drained, -1 if never."""
         return drainage_step(self.order, self.n_pores)
 
+    def overview(self) -> list[tuple[str, str]]:
+        """What the run was and what came out, as (label, text) rows: the lattice, the
+        models, the pores drained and trapped, why it stopped, the regime, the wall time
+        (the ``repr`` and a notebook's HTML view show these)."""
+        s, scene = self.summary, self.scene
+        shape = " x ".join(str(k) for k in self.grid_shape) if self.grid_shape else "network"
+        kinds = [str(scene.get(part, {}).get("kind", "")) for part in ("fluid", "solid")]
+        drained = int(np.count_nonzero(self.drained))
+        rows = [
+            ("lattice", f"{scene.get('lattice', {}).get('kind', '?')} ({shape}), "
+                        f"{self.n_pores} pores, {len(self.throat_pores)} throats, "
+                        f"a = {self.pore_size:g} m"),
+            ("models", ", ".join(k for k in kinds if k) or "?"),
+            ("drained", f"{drained} pores ({drained / max(self.n_pores, 1):.1%})"),
+            ("trapped", f"{int(np.count_nonzero(self.trapped))} pores"),
+        ]  # fmt: skip
+        for label, key, unit in (("stopped", "stop_reason", ""), ("regime", "regime", ""),
+                                 ("wall time", "wall_time_s", " s")):  # fmt: skip
+            if key in s:
+                value = s[key]
+                text = f"{value:.3g}" if isinstance(value, float) else str(value)
+                rows.append((label, text + unit))
+        rows.append(("porenet", self.porenet_version))
+        return rows
+
+    def __repr__(self) -> str:
+        return _repr(type(self).__name__, self.overview())
+
+    def _repr_html_(self) -> str:
+        return _html(type(self).__name__, self.overview())
+
+
+def _repr(name: str, rows: list[tuple[str, str]]) -> str:
+    """``Name(label: text; ...)``, one row a line."""
+    return name + "(\n" + "".join(f"  {label}: {text}\n" for label, text in rows) + ")"
+
+
+def _html(name: str, rows: list[tuple[str, str]]) -> str:
+    """A two-column HTML table of the rows, headed by ``name``."""
+    from html import escape
+
+    body = "".join(
+        f"<tr><th style='text-align:left'>{escape(label)}</th><td style='text-align:left'>"
+        f"{escape(text)}</td></tr>"
+        for label, text in rows
+    )
+    return f"<table><caption style='text-align:left'><b>{escape(name)}</b></caption>{body}</table>"
+
 
 def drainage_step(order: np.ndarray, n_pores: int) -> np.ndarray:
     """(N,) int64: the step at which each pore drained (its place in ``order``, the pores in
@@ -204,6 +252,17 @@ class RunResult:
     @property
     def summary(self) -> dict[str, Any]:
         return self.data.summary
+
+    def overview(self) -> list[tuple[str, str]]:
+        """The data's :meth:`RunData.overview` and where the run file is."""
+        where = str(self.path) if self.path is not None else "not written"
+        return [*self.data.overview(), ("run file", where)]
+
+    def __repr__(self) -> str:
+        return _repr(type(self).__name__, self.overview())
+
+    def _repr_html_(self) -> str:
+        return _html(type(self).__name__, self.overview())
 
     @property
     def drained(self) -> np.ndarray:
