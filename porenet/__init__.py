@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from porenet.io.runfile import read_run
     from porenet.result import RunData, RunResult
     from porenet.simulation import Simulation, run
+    from porenet.sweep.records import read_sweep
 
 __all__ = [
     "RunData",
@@ -30,6 +31,7 @@ __all__ = [
     "__version__",
     "load_scene",
     "read_run",
+    "read_sweep",
     "register",
     "run",
 ]
@@ -37,6 +39,7 @@ __all__ = [
 _LAZY = {
     "load_scene": "porenet.config.loading",
     "read_run": "porenet.io.runfile",
+    "read_sweep": "porenet.sweep.records",
     "register": "porenet.hooks",
     "RunData": "porenet.result",
     "RunResult": "porenet.result",

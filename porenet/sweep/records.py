@@ -164,6 +164,29 @@ class SweepSummary:
         (:data:`porenet.sweep.spec.DERIVED`)."""
         return [c for c in self.columns if "." in c or c in DERIVED]
 
+    def to_dataframe(self) -> Any:
+        """The rows as a pandas DataFrame, one row a run and the columns in the file's order
+        (numbers as float, empty cells as NaN or None); ``df.attrs["parameters"]`` lists the
+        columns that identify a point, ``df.attrs["root"]`` the directory the ``run_file``
+        entries are relative to.
+
+        Raises
+        ------
+        ImportError
+            Without pandas, saying how to install it (``pip install "porenet[pandas]"``).
+        """
+        try:
+            import pandas as pd
+        except ImportError as exc:
+            raise ImportError(
+                'a sweep as a DataFrame needs pandas: pip install "porenet[pandas]" (or read '
+                "it without pandas: porenet.sweep.records.read_summary(DIR).rows)"
+            ) from exc
+        frame = pd.DataFrame(self.rows, columns=self.columns)
+        frame.attrs["parameters"] = self.parameter_columns
+        frame.attrs["root"] = str(self.root)
+        return frame
+
     @property
     def name(self) -> str:
         """A short name for titles: the sweep directory's name ("" for rows given as dicts)."""
@@ -229,6 +252,20 @@ def read_summary(path: str | Path) -> SweepSummary:
     )
 
 
+def read_sweep(path: str | Path) -> Any:
+    """A sweep's ``summary.csv`` as a pandas DataFrame (:meth:`SweepSummary.to_dataframe`):
+    ``porenet.read_sweep("fig2-small")`` after ``porenet sweep ... -o fig2-small``.
+
+    Raises
+    ------
+    ConfigError
+        No summary there, or not a sweep's (:func:`read_summary`).
+    ImportError
+        Without pandas (an optional extra: ``pip install "porenet[pandas]"``).
+    """
+    return read_summary(path).to_dataframe()
+
+
 def as_summary(table: SummaryLike) -> SweepSummary:
     """``table`` as a :class:`SweepSummary`: itself, read with :func:`read_summary` (a path),
     or :meth:`SweepSummary.from_rows` (a list of dicts)."""
@@ -250,5 +287,6 @@ __all__ = [
     "plain",
     "read_error",
     "read_summary",
+    "read_sweep",
     "scene_difference",
 ]
