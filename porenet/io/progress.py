@@ -1,7 +1,9 @@
 """Progress on stderr: a status line on a terminal, a line now and then elsewhere.
 
-On a terminal, one status line rewritten in place (every ``every_seconds``); elsewhere (a
-batch job, ``nohup``, a notebook) a line every :data:`LOG_SECONDS` of wall time or each time
+On a terminal, one status line rewritten in place (every ``every_seconds``); in a Jupyter
+notebook (stderr is ipykernel's stream) the same line, rewritten with a carriage return and
+no terminal escape codes, which the notebook shows as one line updated in place; elsewhere (a
+batch job, ``nohup``) a line every :data:`LOG_SECONDS` of wall time or each time
 another :data:`LOG_FRACTION` of the expected drained pores is reached (up to the expected
 count), whichever comes first. Either shows drained pores, drainage rate, elapsed wall time, model
 time and step (time-dependent models), and an ETA. The number of pores a run will drain is
@@ -86,11 +88,13 @@ class Progress(Observer):
         self._total = 0
         self._expected = expected_drained
         self._time_scale: float | None = None
-        #: A terminal: the status line is rewritten in place; otherwise lines are logged.
-        self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
+        #: A terminal or a notebook: the status line is rewritten in place; otherwise lines
+        #: are logged.
+        self.terminal, self.notebook = _in_place(self.stream)
         self._logged_at = 0.0  # elapsed wall time of the last logged line
         self._logged_fraction = 0  # tenths of the expected pores already logged
         self._wrote = False
+        self._width = 0  # length of the last status line written in place
 
     def __getstate__(self) -> dict[str, Any]:
         """A checkpoint keeps no stream: a resumed run shows progress as it is asked to."""
@@ -101,7 +105,7 @@ class Progress(Observer):
     def resumed(self, run: RunView) -> None:
         if self.stream is None:
             self.stream = sys.stderr
-            self.terminal = bool(getattr(self.stream, "isatty", lambda: False)())
+            self.terminal, self.notebook = _in_place(self.stream)
 
     @property
     def expected_drained(self) -> int | None:
@@ -135,9 +139,13 @@ class Progress(Observer):
     def observe(self, state: State) -> None:
         elapsed = time.perf_counter() - self._t0
         if self.terminal:
-            # "\x1b[K" clears what a longer previous line left behind.
-            self.stream.write(f"\r  {self.status(state, elapsed)}\x1b[K")
+            line = f"  {self.status(state, elapsed)}"
+            # what a longer previous line left behind: "\x1b[K" clears it on a terminal;
+            # a notebook shows escape codes as text, so spaces cover it there
+            tail = " " * max(self._width - len(line), 0) if self.notebook else "\x1b[K"
+            self.stream.write(f"\r{line}{tail}")
             self.stream.flush()
+            self._width = len(line)
             self._wrote = True
             return
         passed = 0
@@ -154,3 +162,12 @@ class Progress(Observer):
             self.observe(state)
             self.stream.write("\n")
             self.stream.flush()
+
+
+def _in_place(stream: Any) -> tuple[bool, bool]:
+    """(rewrite the status line in place, the stream is a Jupyter notebook's): a terminal, or
+    ipykernel's output stream (whose ``isatty`` is False, but whose carriage returns the
+    notebook honours)."""
+    notebook = type(stream).__module__.split(".")[0] == "ipykernel"
+    terminal = bool(getattr(stream, "isatty", lambda: False)())
+    return terminal or notebook, notebook

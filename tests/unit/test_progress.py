@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import itertools
 import logging
 import time
 from types import SimpleNamespace
@@ -82,6 +83,28 @@ def test_status_line_on_a_terminal(scene_dict):
     assert f"/ {31 * 31} pores" in text and "pores/s" in text
     # the expected drained count comes from the plan's cost estimate
     assert progress.expected_drained == plan.cost.drained
+
+
+class NotebookStream(io.StringIO):
+    """A text stream as ipykernel's: not a terminal, but a notebook honours its ``\\r``."""
+
+    def isatty(self) -> bool:
+        return False
+
+
+NotebookStream.__module__ = "ipykernel.iostream"
+
+
+def test_status_line_in_a_notebook(scene_dict):
+    stream = NotebookStream()
+    _run(scene_dict, stream)
+    text = stream.getvalue()
+    # one line rewritten in place, as on a terminal, with no escape code a notebook would print
+    assert text.startswith("\r  drained") and text.endswith("\n") and text.count("\n") == 1
+    assert "\x1b" not in text and text.count("\r") >= 2
+    # a shorter line than the one before is padded over it
+    lines = text.rstrip("\n").split("\r")[1:]
+    assert all(len(b) >= len(a.rstrip()) for a, b in itertools.pairwise(lines))
 
 
 def test_expected_count_is_max_drained_when_given(scene_dict):
