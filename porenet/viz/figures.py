@@ -92,7 +92,7 @@ PLOT_KINDS: dict[str, tuple[Callable[[RunData], Figure], str]] = {
 
 #: Kinds drawn as an image of the grid (the pattern and times are drawn on any lattice:
 #: porenet.viz.network).
-_MAPS = ("pressure", "mechanics")
+_MAPS = ("mechanics",)
 
 
 def missing(data: RunData, kind: str) -> str | None:
@@ -100,14 +100,17 @@ def missing(data: RunData, kind: str) -> str | None:
     run's name (e.g. ``"is a rigid run (no mechanics recorded)"``); None if nothing."""
     if kind not in PLOT_KINDS:
         raise ValueError(f"unknown plot kind {kind!r}; known kinds: {', '.join(PLOT_KINDS)}")
-    if kind in _MAPS and data.grid_shape is None:
-        return "has no grid layout (maps need a grid lattice)"
     if kind == "time" and data.invasion_time is None:
         return f"is a quasi-static {_fluid_kind(data)!r} run (no invasion times recorded)"
     if kind == "pressure" and data.pressure is None:
         return f"has no pressure field (fluid kind {_fluid_kind(data)!r} defines none)"
     if kind == "mechanics" and (data.final_apertures is None or not data.mechanics_final):
         return "is a rigid run (no mechanics recorded)"
+    if kind in _MAPS and data.grid_shape is None:
+        return (
+            "has no grid layout (the mechanics map needs a grid lattice; `porenet export "
+            "RUN.h5` writes the apertures for ParaView, docs/run-file.md)"
+        )
     if kind in ("fractal", "timeseries") and len(data.order) == 0:
         return "has no drained pores"
     return None

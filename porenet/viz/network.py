@@ -7,7 +7,7 @@ the values (drainage step or invasion time) and their label come from it.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -42,44 +42,87 @@ def draw_network_pattern(
     scatter of the drained pores, later ones on top), or the x-y projection alone in ``ax``.
     Returns the figure and its map axes.
     """
-    from matplotlib.figure import Figure
-
-    xyz = np.asarray(data.pore_coords, dtype=np.float64)
-    unit, factor = length_unit(float(np.ptp(xyz, axis=0).max()) or data.pore_size)
-    xyz = xyz / factor
-    three_d = xyz.shape[1] == 3
-    panels = PROJECTIONS if three_d and ax is None else PROJECTIONS[:1]
-    if ax is None:
-        fig = Figure(figsize=(4.6 * len(panels), 4.3), dpi=150, layout="constrained")
-        axes = [fig.add_subplot(1, len(panels), k + 1) for k in range(len(panels))]
-    else:
-        fig, axes = ax.figure, [ax]  # type: ignore[assignment]
+    frame = _Frame(data, ax)
     drained = np.isfinite(values)
     trapped = np.asarray(data.trapped, dtype=bool).ravel() & ~drained
     order = np.argsort(np.where(drained, values, -np.inf))[-int(drained.sum()) :]
-    size = _marker_size(int(drained.sum()), len(xyz) ** (2.0 / 3.0) if three_d else len(xyz))
+    size = frame.marker_size(int(drained.sum()))
     image = None
-    for panel, (h, v) in zip(axes, panels, strict=True):
-        if not three_d and len(data.throat_pores) <= MAX_THROAT_LINES:
-            _draw_throats(panel, xyz, np.asarray(data.throat_pores))
+    for panel, (h, v) in zip(frame.axes, frame.panels, strict=True):
         if trapped.any():
-            panel.scatter(xyz[trapped, h], xyz[trapped, v], s=size, c=TRAPPED_GREY,
+            panel.scatter(frame.xyz[trapped, h], frame.xyz[trapped, v], s=size, c=TRAPPED_GREY,
                           linewidths=0, label="trapped defender")  # fmt: skip
-        image = panel.scatter(xyz[order, h], xyz[order, v], s=size, c=values[order],
-                              cmap=cmap, linewidths=0)  # fmt: skip
-        panel.set_xlabel(f"{AXIS_NAMES[h]} ({unit})")
-        panel.set_ylabel(f"{AXIS_NAMES[v]} ({unit})")
-        panel.set_aspect("equal")
-        lo, hi = xyz.min(axis=0), xyz.max(axis=0)
-        pad = 0.02 * float(np.ptp(xyz, axis=0).max() or 1.0)
-        panel.set_xlim(lo[h] - pad, hi[h] + pad)
-        panel.set_ylim(lo[v] - pad, hi[v] + pad)
-    if image is not None:
-        fig.colorbar(image, ax=axes, label=label, shrink=0.85)
-    if three_d:
-        for panel, (h, v) in zip(axes, panels, strict=True):
-            panel.set_title(f"{AXIS_NAMES[h]}-{AXIS_NAMES[v]} projection", fontsize="small")
-    return fig, axes
+        image = panel.scatter(frame.xyz[order, h], frame.xyz[order, v], s=size,
+                              c=values[order], cmap=cmap, linewidths=0)  # fmt: skip
+    frame.finish(image, label)
+    return frame.fig, frame.axes
+
+
+def draw_network_field(
+    data: RunData,
+    values: np.ndarray,
+    label: str,
+    cmap: str,
+    ax: Axes | None,
+    limits: tuple[float, float],
+) -> tuple[Figure, list[Axes]]:
+    """Draw every pore coloured by ``values`` (a field such as the pressure), the larger
+    values on top: in 2-D the network itself, in 3-D each projection shows the largest value
+    along the axis it looks down (a maximum projection; ParaView shows the field inside,
+    ``porenet export``). Returns the figure and its map axes."""
+    frame = _Frame(data, ax)
+    order = np.argsort(values, kind="stable")
+    size = frame.marker_size(len(order))
+    image = None
+    for panel, (h, v) in zip(frame.axes, frame.panels, strict=True):
+        image = panel.scatter(frame.xyz[order, h], frame.xyz[order, v], s=size,
+                              c=values[order], cmap=cmap, vmin=limits[0], vmax=limits[1],
+                              linewidths=0)  # fmt: skip
+    frame.finish(image, label, projection="maximum " if frame.three_d else "")
+    return frame.fig, frame.axes
+
+
+class _Frame:
+    """The figure, axes and pore coordinates of a network drawing, and its finishing (axes'
+    labels and limits, colour bar, projection titles)."""
+
+    def __init__(self, data: RunData, ax: Axes | None) -> None:
+        from matplotlib.figure import Figure
+
+        xyz = np.asarray(data.pore_coords, dtype=np.float64)
+        self.unit, factor = length_unit(float(np.ptp(xyz, axis=0).max()) or data.pore_size)
+        self.xyz = xyz / factor
+        self.three_d = xyz.shape[1] == 3
+        self.panels = PROJECTIONS if self.three_d and ax is None else PROJECTIONS[:1]
+        if ax is None:
+            self.fig = Figure(figsize=(4.6 * len(self.panels), 4.3), dpi=150,
+                              layout="constrained")  # fmt: skip
+            self.axes = [self.fig.add_subplot(1, len(self.panels), k + 1)
+                         for k in range(len(self.panels))]  # fmt: skip
+        else:
+            self.fig, self.axes = ax.figure, [ax]  # type: ignore[assignment]
+        if not self.three_d and len(data.throat_pores) <= MAX_THROAT_LINES:
+            for panel in self.axes:
+                _draw_throats(panel, self.xyz, np.asarray(data.throat_pores))
+
+    def marker_size(self, n_shown: int) -> float:
+        n = len(self.xyz)
+        return _marker_size(n_shown, n ** (2.0 / 3.0) if self.three_d else n)
+
+    def finish(self, image: Any, label: str, projection: str = "") -> None:
+        lo, hi = self.xyz.min(axis=0), self.xyz.max(axis=0)
+        pad = 0.02 * float(np.ptp(self.xyz, axis=0).max() or 1.0)
+        for panel, (h, v) in zip(self.axes, self.panels, strict=True):
+            panel.set_xlabel(f"{AXIS_NAMES[h]} ({self.unit})")
+            panel.set_ylabel(f"{AXIS_NAMES[v]} ({self.unit})")
+            panel.set_aspect("equal")
+            panel.set_xlim(lo[h] - pad, hi[h] + pad)
+            panel.set_ylim(lo[v] - pad, hi[v] + pad)
+            if self.three_d:
+                name = f"{AXIS_NAMES[h]}-{AXIS_NAMES[v]} {projection}projection"
+                panel.set_title(name, fontsize="small")
+        if image is not None:
+            self.fig.colorbar(image, ax=self.axes, label=label, shrink=0.85)
 
 
 def _draw_throats(ax: Axes, xyz: np.ndarray, throat_pores: np.ndarray) -> None:

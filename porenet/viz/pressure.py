@@ -50,12 +50,13 @@ def plot_pressure_halo(
     cmap: str = "magma",
     title: str | None = None,
 ) -> Figure:
-    """Map of ``log10(p / p_inv)``: 0 in the invader, falling off through the defender.
+    """``log10(p / p_inv)`` of every pore: 0 in the invader, falling off through the defender.
 
     Parameters
     ----------
     data : RunData
-        A run on a grid lattice with a pressure field.
+        A run with a pressure field. On a grid lattice a map; on a network its pores
+        (2-D) or three maximum projections (3-D; :func:`porenet.viz.network.draw_network_field`).
     ax : matplotlib Axes, optional
     snapshot : int, optional
         Index into ``data.snapshots`` (default: the final field).
@@ -65,17 +66,20 @@ def plot_pressure_halo(
         A perceptually uniform colour map.
     title : str, optional
     """
-    if data.grid_shape is None:
-        raise ValueError("plot_pressure_halo needs a lattice with a grid layout")
     ratio, p_inv = pressure_ratio(data, snapshot)
-    rows, cols = data.grid_shape
-    image = np.log10(np.clip(ratio, floor, None)).reshape(rows, cols)
-    fig, ax, extent, unit = grid_axes(data, ax)
-    im = ax.imshow(
-        image, cmap=cmap, extent=extent, interpolation="nearest", vmin=np.log10(floor), vmax=0.0
-    )
-    fig.colorbar(im, ax=ax, label=r"$\log_{10}(p / p_{inv})$", shrink=0.85)
-    label_map(ax, unit)
+    values = np.log10(np.clip(ratio, floor, None))
+    label = r"$\log_{10}(p / p_{inv})$"
+    if data.grid_shape is None:
+        from porenet.viz.network import draw_network_field
+
+        fig, axes = draw_network_field(data, values, label, cmap, ax, (np.log10(floor), 0.0))
+    else:
+        fig, ax, extent, unit = grid_axes(data, ax)
+        im = ax.imshow(values.reshape(data.grid_shape), cmap=cmap, extent=extent,
+                       interpolation="nearest", vmin=np.log10(floor), vmax=0.0)  # fmt: skip
+        fig.colorbar(im, ax=ax, label=label, shrink=0.85)
+        label_map(ax, unit)
+        axes = [ax]
     if title is None:
         extra = [f"p_inv = {format_pressure(p_inv)}"]
         if snapshot is not None:
@@ -83,5 +87,8 @@ def plot_pressure_halo(
             t_unit, t_factor = time_unit(t or 1.0)
             extra.append(f"t = {t / t_factor:.3g} {t_unit}")
         title = scene_title(data, extra)
-    ax.set_title(title)
+    if len(axes) > 1:  # the projections keep their own titles
+        fig.suptitle(title)
+    else:
+        axes[0].set_title(title)
     return fig

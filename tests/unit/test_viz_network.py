@@ -50,7 +50,7 @@ def test_irregular_2d_network_draws_its_throats(run_3d):
 
 
 @pytest.mark.parametrize(("kind", "status"), [("pattern", 0), ("time", 0), ("fractal", 2),
-                                              ("pressure", 2)])  # fmt: skip
+                                              ("pressure", 0), ("mechanics", 2)])  # fmt: skip
 def test_cli_plots_a_3d_run(run_3d, tmp_path, kind, status):
     _, path = run_3d
     out = tmp_path / f"{kind}.png"
@@ -58,9 +58,40 @@ def test_cli_plots_a_3d_run(run_3d, tmp_path, kind, status):
                            "-o", str(out)], capture_output=True, text=True)  # fmt: skip
     assert proc.returncode == status, proc.stderr
     assert out.exists() == (status == 0)
-    if status:  # a pressure map needs a grid; this small pattern is too small for D_f
+    if status:  # a rigid run has no mechanics; this small pattern is too small for D_f
         assert "Traceback" not in proc.stderr
-        assert ("no grid layout" if kind == "pressure" else "too small") in proc.stderr
+        assert ("rigid run" if kind == "mechanics" else "too small") in proc.stderr
+
+
+def test_3d_pressure_is_three_maximum_projections_of_every_pore(run_3d):
+    from porenet.viz.pressure import plot_pressure_halo, pressure_ratio
+
+    data, _ = run_3d
+    fig = plot_pressure_halo(data)
+    maps = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert [ax.get_title() for ax in maps] == [f"{p} maximum projection"
+                                               for p in ("x-y", "x-z", "y-z")]  # fmt: skip
+    points = maps[0].collections[-1]
+    assert len(points.get_offsets()) == data.n_pores  # every pore, not only the drained
+    # the largest values are drawn last (on top): 0 for the drained pores, p = p_inv
+    ratio, _ = pressure_ratio(data)
+    shown = np.asarray(points.get_array())
+    assert np.all(np.diff(shown) >= 0) and shown[-1] == pytest.approx(0.0)
+    assert np.sort(shown) == pytest.approx(np.sort(np.log10(np.clip(ratio, 1e-4, None))))
+
+
+def test_a_mechanics_map_on_a_network_points_to_paraview():
+    from porenet.viz.figures import missing
+
+    data = dataclasses.replace(_deformable_data(), grid_shape=None)
+    assert "porenet export" in missing(data, "mechanics")
+
+
+def _deformable_data():
+    sc = {"seed": 1, "lattice": {"n": 10, "disorder": 0.3},
+          "fluid": {"kind": "invasion-percolation"}, "solid": {"kind": "hertz", "fracturing_number": 1.0},
+          "classifier": {"kind": "none"}}  # fmt: skip
+    return Simulation.from_scene(sc).run().data
 
 
 def test_fractal_figure_of_a_3d_pattern():

@@ -3,7 +3,7 @@ and checked against the paper's phase diagrams where the regime is not in doubt.
 
 Each twin takes ~0.5-2 minutes on 2 cores (docs/reproduction.md), so they form the ``paper``
 tier, outside the default run (``pytest -m paper``; docs/verification.md); the default run
-checks the same labels at one deep point each (tests/verification/test_regimes.py). The
+checks the same labels at one deep point each (tests/verification/test_deep_regimes.py). The
 checks are the deep regimes only: labels near the theoretical lines vary with the seed
 (docs/classification.md).
 """
