@@ -173,7 +173,7 @@ class RunData:
         models, the pores drained and trapped, why it stopped, the regime, the wall time
         (the ``repr`` and a notebook's HTML view show these)."""
         s, scene = self.summary, self.scene
-        shape = " x ".join(str(k) for k in self.grid_shape) if self.grid_shape else "network"
+        shape = " x ".join(str(k) for k in self.grid_shape) if self.grid_shape else "not a grid"
         kinds = [str(scene.get(part, {}).get("kind", "")) for part in ("fluid", "solid")]
         drained = int(np.count_nonzero(self.drained))
         rows = [

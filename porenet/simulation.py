@@ -146,17 +146,25 @@ class Simulation:
         output: Any = None,
         progress: bool = False,
         registry: Registry | None = None,
+        network: Any = None,
     ) -> Simulation:
         """Validate ``scene`` (path, dict or SceneConfig), plan it and build the simulation.
 
         ``progress``: show a start line and progress on stderr (a status line on a terminal,
         a line every ~30 s or ~10 % of the estimate elsewhere), and say when kernels compile.
+        ``network``: a network held in memory (an OpenPNM or PoreSpy network dict, or an
+        OpenPNM ``Network``) for the scene's network lattice, saved as the file its
+        ``lattice.file`` names (:mod:`porenet.io.networks`).
         """
         from porenet.config.loading import load_scene
         from porenet.hooks import get_registry
         from porenet.io.progress import Progress
         from porenet.io.writer import RunFileWriter
 
+        if network is not None:
+            from porenet.io.networks import save_network
+
+            overrides = [*overrides, f"lattice.file={save_network(network)}"]
         registry = registry or get_registry()
         config = load_scene(scene, overrides, registry=registry)
         plan = make_plan(config, registry, output=output, progress=progress)
@@ -599,6 +607,7 @@ def run(
     *,
     output: Any = None,
     progress: bool = False,
+    network: Any = None,
 ) -> RunResult:
     """Validate, plan and run a scene.
 
@@ -611,10 +620,21 @@ def run(
     output : str or Path, optional
         Run file (HDF5) to write atomically at the end.
     progress : bool
-        Show progress on a terminal.
+        Show progress on a terminal or in a notebook.
+    network : dict or OpenPNM Network, optional
+        A network held in memory for a scene whose lattice is of kind ``network``: saved as
+        an ``.npz`` file named by its content (:mod:`porenet.io.networks`) and given as
+        ``lattice.file``, so it meets the checks of a file (docs/lattices.md, "Imported
+        networks")::
+
+            net = porespy.networks.snow2(image, voxel_size=1e-6).network
+            porenet.run({"lattice": {"kind": "network", "pore_size": 1e-6}, "fluid": {}},
+                        network=net)
 
     Returns
     -------
     RunResult
     """
-    return Simulation.from_scene(scene, overrides, output=output, progress=progress).run()
+    return Simulation.from_scene(
+        scene, overrides, output=output, progress=progress, network=network
+    ).run()

@@ -39,7 +39,7 @@ def test_the_html_is_a_table_with_its_text_escaped():
     assert "run file</th><td style='text-align:left'>not written" in html
 
 
-def test_a_lattice_with_no_grid_says_network():
+def test_a_lattice_with_no_grid_says_so():
     data = porenet.run(SCENE).data
     data.grid_shape = None  # as an imported network's data
-    assert "(network)" in repr(data)
+    assert "(not a grid)" in repr(data)
