@@ -89,7 +89,8 @@ def test_a_mechanics_map_on_a_network_points_to_paraview():
 
 def _deformable_data():
     sc = {"seed": 1, "lattice": {"n": 10, "disorder": 0.3},
-          "fluid": {"kind": "invasion-percolation"}, "solid": {"kind": "hertz", "fracturing_number": 1.0},
+          "fluid": {"kind": "invasion-percolation"},
+          "solid": {"kind": "hertz", "fracturing_number": 1.0},
           "classifier": {"kind": "none"}}  # fmt: skip
     return Simulation.from_scene(sc).run().data
 
