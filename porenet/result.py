@@ -201,7 +201,7 @@ class RunData:
 
 
 def _repr(name: str, rows: list[tuple[str, str]]) -> str:
-    """``Name(label: text; ...)``, one row a line."""
+    """``Name(``, then ``label: text`` a line for each row, then ``)``."""
     return name + "(\n" + "".join(f"  {label}: {text}\n" for label, text in rows) + ")"
 
 
