@@ -455,6 +455,10 @@ def box_counting(
 def pattern_dimension(data: RunData, method: str = "mass-radius") -> FractalFit:
     """D_f of a run's drained pattern, automatic range, bias for the run's scene.
 
+    The bias is the one tabulated for the scene's injection and trapping (patterns of models
+    without a ``trapping`` option, the dynamic ones, trap the defender and take the trapping
+    value); the size is the larger side of the grid.
+
     Parameters
     ----------
     data : RunData
@@ -466,10 +470,6 @@ def pattern_dimension(data: RunData, method: str = "mass-radius") -> FractalFit:
         while R is below the lattice width and is not a fractal measure, so use
         ``"box-counting"`` (on a lattice without a grid layout, over cells of one spacing:
         the median distance between joined pores, in 2-D or 3-D).
-
-    The bias is the one tabulated for the scene's injection and trapping (patterns of models
-    without a ``trapping`` option, the dynamic ones, trap the defender and take the trapping
-    value); the size is the larger side of the grid.
 
     Raises
     ------
