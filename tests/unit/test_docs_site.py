@@ -11,8 +11,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "examples" / "scripts"
 
@@ -41,7 +39,6 @@ def test_the_cli_reference_is_current(monkeypatch):
     )
 
 
-@pytest.mark.long
 def test_the_site_builds_strictly(tmp_path):
     """Broken links, pages missing from the nav's files, docstrings mkdocstrings cannot
     parse: each is a warning, and --strict makes it an error."""
