@@ -354,7 +354,7 @@ def _run_locked(sweep: Sweep, runs: list[RunSpec], out: Path, options: SweepOpti
         what = "terminated (SIGTERM)" if isinstance(exc, _Terminated) else "interrupted"
         stopped = SweepInterrupted(
             f"{what}: {done + failed} of {len(runs)} runs finished ({failed} failed; "
-            f"{finished_now} in this session); re-running the same command resumes"
+            f"{finished_now} since this command started); re-running the same command resumes"
         )
         if isinstance(exc, _Terminated):
             stopped.exit_status = 128 + signal.SIGTERM
