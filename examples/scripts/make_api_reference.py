@@ -33,6 +33,11 @@ PARTS = {
 }
 
 
+#: The package and its top-level modules, entry points first (the first section).
+TOP_LEVEL = ["porenet", "porenet.simulation", "porenet.result", "porenet.hooks",
+             "porenet.plot_kinds"]  # fmt: skip
+
+
 def public_modules() -> list[str]:
     """Dotted names of porenet's public modules, sorted."""
     names = []
@@ -58,14 +63,14 @@ def page() -> str:
         "`python examples/scripts/make_api_reference.py`.",
         "",
     ]
+    modules = public_modules()  # one walk of the package for every section
     for part, what in PARTS.items():
-        members = [m for m in public_modules()
-                   if (m == "porenet" if part == "porenet" else m.split(".")[1:2] == [part]
-                       or m == f"porenet.{part}")]  # fmt: skip
         if part == "porenet":
-            members += ["porenet.simulation", "porenet.result", "porenet.hooks",
-                        "porenet.plot_kinds"]  # fmt: skip
-        lines += [f"## `{'porenet' if part == 'porenet' else 'porenet.' + part}`", "", what, ""]
+            heading, members = "porenet", TOP_LEVEL
+        else:
+            heading = f"porenet.{part}"
+            members = [m for m in modules if m == heading or m.startswith(f"{heading}.")]
+        lines += [f"## `{heading}`", "", what, ""]
         for module in members:
             lines += [f"::: {module}", ""]
     return "\n".join(lines)
